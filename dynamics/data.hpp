@@ -1,0 +1,79 @@
+// The workspace of the dynamics algorithms: everything they compute, sized once from a Model.
+// Algorithms write only here, so a constant Model can be shared by any number of Data; once a
+// Data exists no algorithm allocates. Floating-point entries start as NaN so that a quantity read
+// before the algorithm that fills it shows up at once.
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "dynamics/model.hpp"
+
+namespace saltus::dynamics {
+
+template <class S>
+struct Data {
+  explicit Data(const Model<S>& model);
+
+  // Kinematics (per body i, RBDA notation).
+  std::vector<Transform<S>> X_up;     // ^iX_λ(i): parent coordinates -> body i coordinates
+  std::vector<Transform<S>> X_world;  // ^iX_0: world -> body i; E = R_WBᵀ, r = p_WB (origin in world)
+  std::vector<Motion<S>> v;           // body spatial velocity, body coordinates
+  std::vector<Motion<S>> a;           // body spatial acceleration, body coordinates (forwardKinematics)
+  std::vector<Motion<S>> a_bias;      // spatial acceleration with q̈ = 0 (forwardKinematics with v)
+
+  // Inverse dynamics (RNEA, RBDA Table 5.1).
+  std::vector<Motion<S>> a_gf;  // a_i − ^iX_0 g: acceleration offset by gravity (a_0 = −g trick)
+  std::vector<Force<S>> f;      // force transmitted across joint i, body coordinates
+  VecX<S> tau;                  // RNEA result
+
+  // Composite rigid bodies (CRBA, RBDA Table 6.2).
+  std::vector<RigidInertia<S>> Ic;
+  MatX<S> M;  // joint-space inertia matrix, both triangles filled
+
+  // Articulated bodies (ABA, RBDA Table 7.1).
+  std::vector<Mat6<S>> IA;
+  std::vector<Force<S>> pA;
+  std::vector<Motion<S>> c;
+  std::vector<Vec6<S>> U;
+  VecX<S> D, u;
+  VecX<S> qdd;  // ABA result
+
+  // Centre of mass (centerOfMass).
+  S mass;
+  Vec3<S> com;
+};
+
+template <class S>
+Data<S>::Data(const Model<S>& model) {
+  const int n = model.nv();
+  const S nan(std::numeric_limits<double>::quiet_NaN());
+  const Vec3<S> nan3 = Vec3<S>::Constant(nan);
+  const Motion<S> mnan{nan3, nan3};
+  const Force<S> fnan{nan3, nan3};
+  const Transform<S> Xnan{Mat3<S>::Constant(nan), nan3};
+  X_up.assign(n, Xnan);
+  X_world.assign(n, Xnan);
+  v.assign(n, mnan);
+  a.assign(n, mnan);
+  a_bias.assign(n, mnan);
+  a_gf.assign(n, mnan);
+  f.assign(n, fnan);
+  tau = VecX<S>::Constant(n, nan);
+  Ic.assign(n, RigidInertia<S>{nan, nan3, Mat3<S>::Constant(nan)});
+  M = MatX<S>::Constant(n, n, nan);
+  for (int i = 0; i < n; ++i)  // structural zeros of M: neither body supports the other
+    for (int j = 0; j < n; ++j)
+      if (!model.isAncestor(i, j) && !model.isAncestor(j, i)) M(i, j) = S(0);
+  IA.assign(n, Mat6<S>::Constant(nan));
+  pA.assign(n, fnan);
+  c.assign(n, mnan);
+  U.assign(n, Vec6<S>::Constant(nan));
+  D = VecX<S>::Constant(n, nan);
+  u = VecX<S>::Constant(n, nan);
+  qdd = VecX<S>::Constant(n, nan);
+  mass = nan;
+  com = nan3;
+}
+
+}  // namespace saltus::dynamics

@@ -1,0 +1,104 @@
+// Forward kinematics: body poses, velocities and accelerations (RBDA 4.4 / Table 5.1, first
+// loop), and poses, velocities and accelerations of points on bodies.
+#pragma once
+
+#include "dynamics/data.hpp"
+#include "dynamics/joint.hpp"
+
+namespace saltus::dynamics {
+
+// Poses: data.X_up, data.X_world.
+template <class S>
+void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
+  for (int i = 0; i < model.nv(); ++i) {
+    data.X_up[i] = jointTransformUp(model, i, q[i]);
+    const int p = model.parent[i];
+    data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
+  }
+}
+
+// Poses and velocities; also data.a_bias, the body accelerations when q̈ = 0 (the J̇v terms).
+template <class S>
+void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
+                       const VecRef<S>& v) {
+  for (int i = 0; i < model.nv(); ++i) {
+    data.X_up[i] = jointTransformUp(model, i, q[i]);
+    const int p = model.parent[i];
+    const Motion<S> vJ = jointVelocity(model, i, v[i]);
+    if (p < 0) {
+      data.X_world[i] = data.X_up[i];
+      data.v[i] = vJ;
+      data.a_bias[i] = Motion<S>::Zero();
+    } else {
+      data.X_world[i] = data.X_up[i] * data.X_world[p];
+      data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
+      data.a_bias[i] = data.X_up[i].apply(data.a_bias[p]) + data.v[i].cross(vJ);  // RBDA 5.7
+    }
+  }
+}
+
+// Poses, velocities and accelerations a_i = ^iX_λ a_λ + S q̈ + v_i × S q̇ (RBDA 5.7).
+template <class S>
+void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
+                       const VecRef<S>& v, const VecRef<S>& a) {
+  forwardKinematics(model, data, q, v);
+  for (int i = 0; i < model.nv(); ++i) {
+    const int p = model.parent[i];
+    const Motion<S> aJ = jointVelocity(model, i, a[i]);
+    data.a[i] = p < 0 ? aJ : data.X_up[i].apply(data.a[p]) + aJ;
+    if (p >= 0) data.a[i] += data.v[i].cross(jointVelocity(model, i, v[i]));
+  }
+}
+
+// Pose of body b in the world (body = −1 is the world itself).
+template <class S>
+Mat3<S> bodyRotation(const Data<S>& data, int body) {  // R_WB
+  return body < 0 ? Mat3<S>::Identity() : Mat3<S>(data.X_world[body].E.transpose());
+}
+template <class S>
+Vec3<S> bodyPosition(const Data<S>& data, int body) {  // p_WB
+  return body < 0 ? Vec3<S>::Zero() : data.X_world[body].r;
+}
+
+// World position of a point fixed on body b, given in body coordinates (p_BP).
+// Needs forwardKinematics(q).
+template <class S>
+Vec3<S> pointPosition(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+  if (body < 0) return p_BP;
+  const Transform<S>& X = data.X_world[body];
+  return X.r + X.E.transpose() * p_BP;
+}
+
+// World linear velocity of a point fixed on body b (v_WP). Needs forwardKinematics(q, v).
+template <class S>
+Vec3<S> pointVelocity(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+  if (body < 0) return Vec3<S>::Zero();
+  const Motion<S>& vb = data.v[body];
+  return data.X_world[body].E.transpose() * (vb.v + vb.w.cross(p_BP));
+}
+
+// Classical (not spatial) linear acceleration of a point from a body spatial acceleration:
+// a_P = a_O + α × p + ω × (v_O + ω × p)  (RBDA 2.11 / 2.12).
+template <class S>
+Vec3<S> classicalPointAcceleration(const Data<S>& data, int body, const Motion<S>& ab,
+                                   const Vec3<S>& p_BP) {
+  const Motion<S>& vb = data.v[body];
+  const Vec3<S> a_B = ab.v + ab.w.cross(p_BP) + vb.w.cross(vb.v + vb.w.cross(p_BP));
+  return data.X_world[body].E.transpose() * a_B;
+}
+
+// World linear acceleration of a point (a_WP). Needs forwardKinematics(q, v, a).
+template <class S>
+Vec3<S> pointAcceleration(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+  if (body < 0) return Vec3<S>::Zero();
+  return classicalPointAcceleration(data, body, data.a[body], p_BP);
+}
+
+// J̇(q, v) v for a point: its acceleration when q̈ = 0. Needs forwardKinematics(q, v).
+template <class S>
+Vec3<S> pointAccelerationBias(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+  if (body < 0) return Vec3<S>::Zero();
+  return classicalPointAcceleration(data, body, data.a_bias[body], p_BP);
+}
+
+}  // namespace saltus::dynamics

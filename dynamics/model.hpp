@@ -1,0 +1,150 @@
+// The constant description of a kinematic tree (RBDA 4.1: λ(i), joint types, X_T, I_i).
+//
+// Every body i has exactly one one-coordinate joint connecting it to its parent λ(i) < i
+// (−1 is the fixed world), so the coordinate index of a joint is its body index and nq = nv.
+// Fixed URDF joints are merged into their parent body; floating bases are chains of
+// one-coordinate joints through massless virtual bodies (see BaseType), so generalised
+// velocities are always the time derivatives of the coordinates: v = q̇.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "dynamics/spatial.hpp"
+
+namespace saltus::dynamics {
+
+enum class JointType { Revolute, Prismatic };
+
+// How the tree's root link is attached to the world.
+//  Fixed:  the root link is the world.
+//  Planar: coordinates (base_x, base_z, base_theta): translation along world x and z, then a
+//          rotation θ about the y axis; motion in the vertical x–z plane.
+//  Free:   coordinates (base_x, base_y, base_z, base_yaw, base_pitch, base_roll): translation in
+//          world axes, then intrinsic Z–Y′–X″ Euler angles (yaw ψ, pitch θ, roll φ), so the base
+//          orientation is R = Rz(ψ) Ry(θ) Rx(φ). Singular at θ = ±π/2 (gimbal lock), where the
+//          mass matrix loses rank; keep pitch away from ±π/2 or re-parametrise.
+enum class BaseType { Fixed, Planar, Free };
+
+const char* toString(BaseType base);
+const char* toString(JointType type);
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct JointLimits {
+  double lower = -kInf;    // position [m or rad]; −∞ when unlimited (continuous joints)
+  double upper = kInf;
+  double velocity = kInf;  // |q̇| bound
+  double effort = kInf;    // |τ| bound (input bound for optimisation)
+  bool hasPositionLimits() const { return lower > -kInf || upper < kInf; }
+};
+
+// Visual geometry for rendering, attached to a body.
+struct Visual {
+  enum class Shape { Box, Cylinder, Sphere, Mesh };
+  std::string link;        // URDF link it came from
+  int body = -1;           // body it moves with (−1: world)
+  Eigen::Matrix3d R_BG = Eigen::Matrix3d::Identity();  // orientation of the geometry in the body frame
+  Eigen::Vector3d p_BG = Eigen::Vector3d::Zero();      // position of the geometry in the body frame
+  Shape shape = Shape::Box;
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();      // box: extents; cylinder: (radius, length, 0); sphere: (radius, 0, 0)
+  std::string mesh_file;
+  Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
+  Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};
+};
+
+// A named frame rigidly attached to a body: every URDF link is one (a link merged through a
+// fixed joint keeps its own frame on the body it was merged into).
+struct Frame {
+  std::string name;
+  int body = -1;                                       // −1: the world
+  Eigen::Matrix3d R_BF = Eigen::Matrix3d::Identity();  // orientation of the frame in the body frame
+  Eigen::Vector3d p_BF = Eigen::Vector3d::Zero();      // origin of the frame in the body frame
+};
+
+template <class S>
+struct Model {
+  std::string name;    // robot name
+  std::string source;  // file it was read from, or "builder"
+  BaseType base = BaseType::Fixed;
+  int n_base = 0;      // number of leading base coordinates (0, 3 or 6)
+
+  // Per body i (= per coordinate i), in topological order: parent[i] < i.
+  std::vector<int> parent;                 // λ(i), −1 for the world
+  std::vector<JointType> joint_type;
+  std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame
+  std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
+  std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
+  std::vector<std::string> body_name;
+  std::vector<std::string> coordinate_name;  // URDF joint name (or base_x ...)
+  std::vector<JointLimits> limits;
+
+  Vec3<S> gravity = Vec3<S>(S(0), S(0), S(-9.81));
+
+  std::vector<Frame> frames;
+  std::vector<Visual> visuals;
+
+  int nv() const { return static_cast<int>(parent.size()); }
+  int nq() const { return nv(); }
+  int nbodies() const { return nv(); }
+  S totalMass() const {
+    S m(0);
+    for (const auto& I : inertia) m += I.m;
+    return m;
+  }
+  // −1 when absent.
+  int bodyIndex(const std::string& body) const;
+  int coordinateIndex(const std::string& coordinate) const;
+  int frameIndex(const std::string& frame) const;
+  // true when body a is b or an ancestor of b.
+  bool isAncestor(int a, int b) const {
+    while (b > a) b = parent[b];
+    return a == b;
+  }
+
+  template <class T>
+  Model<T> cast() const {
+    Model<T> m;
+    m.name = name;
+    m.source = source;
+    m.base = base;
+    m.n_base = n_base;
+    m.parent = parent;
+    m.joint_type = joint_type;
+    m.axis.reserve(axis.size());
+    for (const auto& a : axis) m.axis.push_back(a.template cast<T>());
+    m.X_tree.reserve(X_tree.size());
+    for (const auto& X : X_tree) m.X_tree.push_back(X.template cast<T>());
+    m.inertia.reserve(inertia.size());
+    for (const auto& I : inertia) m.inertia.push_back(I.template cast<T>());
+    m.body_name = body_name;
+    m.coordinate_name = coordinate_name;
+    m.limits = limits;
+    m.gravity = gravity.template cast<T>();
+    m.frames = frames;
+    m.visuals = visuals;
+    return m;
+  }
+};
+
+template <class S>
+int Model<S>::bodyIndex(const std::string& body) const {
+  for (int i = 0; i < nv(); ++i)
+    if (body_name[i] == body) return i;
+  return -1;
+}
+template <class S>
+int Model<S>::coordinateIndex(const std::string& coordinate) const {
+  for (int i = 0; i < nv(); ++i)
+    if (coordinate_name[i] == coordinate) return i;
+  return -1;
+}
+template <class S>
+int Model<S>::frameIndex(const std::string& frame) const {
+  for (int i = 0; i < static_cast<int>(frames.size()); ++i)
+    if (frames[i].name == frame) return i;
+  return -1;
+}
+
+}  // namespace saltus::dynamics

@@ -1,0 +1,197 @@
+// Spatial vector algebra in Featherstone's notation (RBDA = R. Featherstone, "Rigid Body
+// Dynamics Algorithms", Springer 2008, chapter 2).
+//
+// Conventions:
+//  - a motion vector is (ω; v): angular part first, then the linear velocity of the point at
+//    the frame origin (RBDA 2.2); a force vector is (n; f): moment about the origin, then force.
+//  - Transform B_X_A maps motion vectors from A coordinates to B coordinates. It is stored as
+//    the rotation E (A coordinates -> B coordinates) and r, the position of B's origin relative
+//    to A's origin, expressed in A coordinates (RBDA 2.24: X = [E 0; -E r× E]).
+//  - RigidInertia holds the mass m, the first moment h = m c and the rotational inertia Ī about
+//    the frame origin (RBDA 2.62: I = [Ī h×; h×ᵀ m1]).
+// All types are templated on the scalar so that AD scalars run through the same code.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <type_traits>
+
+namespace saltus::dynamics {
+
+template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
+template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
+template <class S> using Vec6 = Eigen::Matrix<S, 6, 1>;
+template <class S> using Mat6 = Eigen::Matrix<S, 6, 6>;
+template <class S> using VecX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+template <class S> using MatX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+template <class S> using Mat3X = Eigen::Matrix<S, 3, Eigen::Dynamic>;
+template <class S> using Mat6X = Eigen::Matrix<S, 6, Eigen::Dynamic>;
+
+// Argument types of the algorithms. The scalar is deduced from the Model alone (these are
+// non-deduced contexts), so any vector expression of matching scalar can be passed.
+template <class S> using VecRef = std::type_identity_t<Eigen::Ref<const VecX<S>>>;
+template <class M> using MatOut = std::type_identity_t<Eigen::Ref<M>>;
+
+// x× as a matrix: skew(x) * y = x × y.
+template <class S>
+Mat3<S> skew(const Vec3<S>& x) {
+  Mat3<S> m;
+  m << S(0), -x.z(), x.y(), x.z(), S(0), -x.x(), -x.y(), x.x(), S(0);
+  return m;
+}
+
+template <class S> struct Force;
+
+// Spatial motion vector (ω; v) (RBDA 2.2).
+template <class S>
+struct Motion {
+  Vec3<S> w;  // angular velocity
+  Vec3<S> v;  // linear velocity of the point at the frame origin
+
+  static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
+  Motion operator+(const Motion& o) const { return {w + o.w, v + o.v}; }
+  Motion operator-(const Motion& o) const { return {w - o.w, v - o.v}; }
+  Motion& operator+=(const Motion& o) { w += o.w; v += o.v; return *this; }
+  Motion operator*(const S& s) const { return {w * s, v * s}; }
+  // crm(this) * m  (RBDA 2.31): the derivative of m moving with velocity *this.
+  Motion cross(const Motion& m) const { return {w.cross(m.w), w.cross(m.v) + v.cross(m.w)}; }
+  // crf(this) * f  (RBDA 2.32).
+  Force<S> crossForce(const Force<S>& f) const;
+  Vec6<S> vector() const { Vec6<S> x; x << w, v; return x; }
+  static Motion FromVector(const Vec6<S>& x) { return {x.template head<3>(), x.template tail<3>()}; }
+};
+
+// Spatial force vector (n; f) (RBDA 2.2).
+template <class S>
+struct Force {
+  Vec3<S> n;  // moment about the frame origin
+  Vec3<S> f;  // force
+
+  static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
+  Force operator+(const Force& o) const { return {n + o.n, f + o.f}; }
+  Force operator-(const Force& o) const { return {n - o.n, f - o.f}; }
+  Force& operator+=(const Force& o) { n += o.n; f += o.f; return *this; }
+  Force& operator-=(const Force& o) { n -= o.n; f -= o.f; return *this; }
+  Force operator*(const S& s) const { return {n * s, f * s}; }
+  Vec6<S> vector() const { Vec6<S> x; x << n, f; return x; }
+  static Force FromVector(const Vec6<S>& x) { return {x.template head<3>(), x.template tail<3>()}; }
+};
+
+template <class S>
+Force<S> Motion<S>::crossForce(const Force<S>& f) const {
+  return {w.cross(f.n) + v.cross(f.f), w.cross(f.f)};
+}
+
+// Scalar product of a motion and a force (power).
+template <class S>
+S dot(const Motion<S>& m, const Force<S>& f) {
+  return m.w.dot(f.n) + m.v.dot(f.f);
+}
+
+// Plücker transform B_X_A (RBDA 2.24).
+template <class S>
+struct Transform {
+  Mat3<S> E;  // rotation: A coordinates -> B coordinates
+  Vec3<S> r;  // B origin relative to A origin, in A coordinates
+
+  static Transform Identity() { return {Mat3<S>::Identity(), Vec3<S>::Zero()}; }
+
+  // X m: motion from A to B coordinates.
+  Motion<S> apply(const Motion<S>& m) const {
+    return {E * m.w, E * (m.v - r.cross(m.w))};
+  }
+  // X* f: force from A to B coordinates.
+  Force<S> apply(const Force<S>& f) const {
+    return {E * (f.n - r.cross(f.f)), E * f.f};
+  }
+  // X⁻¹ m: motion from B to A coordinates.
+  Motion<S> applyInverse(const Motion<S>& m) const {
+    const Vec3<S> w = E.transpose() * m.w;
+    return {w, E.transpose() * m.v + r.cross(w)};
+  }
+  // Xᵀ f = (X*)⁻¹ f: force from B to A coordinates (RBDA 2.25).
+  Force<S> applyTranspose(const Force<S>& f) const {
+    const Vec3<S> ff = E.transpose() * f.f;
+    return {E.transpose() * f.n + r.cross(ff), ff};
+  }
+  // (C_X_B) * (B_X_A) = C_X_A  (RBDA Table 2.2).
+  Transform operator*(const Transform& bXa) const {
+    return {E * bXa.E, bXa.r + bXa.E.transpose() * r};
+  }
+  // A_X_B.
+  Transform inverse() const { return {E.transpose(), -(E * r)}; }
+
+  Mat6<S> matrix() const {
+    Mat6<S> X;
+    X.template topLeftCorner<3, 3>() = E;
+    X.template topRightCorner<3, 3>().setZero();
+    X.template bottomLeftCorner<3, 3>() = -E * skew(r);
+    X.template bottomRightCorner<3, 3>() = E;
+    return X;
+  }
+  template <class T>
+  Transform<T> cast() const { return {E.template cast<T>(), r.template cast<T>()}; }
+};
+
+// Rigid-body spatial inertia about the frame origin (RBDA 2.62).
+template <class S>
+struct RigidInertia {
+  S m;         // mass
+  Vec3<S> h;   // first moment of mass m c (c: centre of mass)
+  Mat3<S> I;   // rotational inertia about the frame origin
+
+  static RigidInertia Zero() { return {S(0), Vec3<S>::Zero(), Mat3<S>::Zero()}; }
+  // From mass, centre of mass c and the rotational inertia about the centre of mass
+  // (parallel-axis theorem, RBDA 2.63).
+  static RigidInertia FromCom(const S& mass, const Vec3<S>& c, const Mat3<S>& Ic) {
+    const Mat3<S> cx = skew(c);
+    return {mass, c * mass, Ic - mass * cx * cx};
+  }
+
+  RigidInertia operator+(const RigidInertia& o) const { return {m + o.m, h + o.h, I + o.I}; }
+  RigidInertia& operator+=(const RigidInertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
+
+  // I v  (RBDA 2.62).
+  Force<S> operator*(const Motion<S>& v) const {
+    return {I * v.w + h.cross(v.v), m * v.v - h.cross(v.w)};
+  }
+
+  // Xᵀ I X: this inertia is expressed in B coordinates; returns it in A coordinates, where
+  // X = B_X_A (RBDA Table 2.5).
+  RigidInertia transformedBy(const Transform<S>& X) const {
+    const Vec3<S> hA0 = X.E.transpose() * h;  // first moment about B's origin, A axes
+    const Mat3<S> IA0 = X.E.transpose() * I * X.E;
+    const Mat3<S> rx = skew(X.r);
+    const Mat3<S> hx = skew(hA0);
+    // Ī_A = Eᵀ Ī E - (r× h× + h× r× + m r× r×), h_A = Eᵀ h + m r.
+    return {m, hA0 + m * X.r, IA0 - (rx * hx + hx * rx + m * rx * rx)};
+  }
+
+  Mat6<S> matrix() const {
+    Mat6<S> M;
+    const Mat3<S> hx = skew(h);
+    M.template topLeftCorner<3, 3>() = I;
+    M.template topRightCorner<3, 3>() = hx;
+    M.template bottomLeftCorner<3, 3>() = -hx;
+    M.template bottomRightCorner<3, 3>() = Mat3<S>::Identity() * m;
+    return M;
+  }
+  template <class T>
+  RigidInertia<T> cast() const { return {T(m), h.template cast<T>(), I.template cast<T>()}; }
+};
+
+// Rotation matrix (active) by angle q about a unit axis (Rodrigues).
+template <class S>
+Mat3<S> axisAngle(const Vec3<double>& axis, const S& q) {
+  using std::cos;
+  using std::sin;
+  const S c = cos(q), s = sin(q), t = S(1) - c;
+  const double x = axis.x(), y = axis.y(), z = axis.z();
+  Mat3<S> R;
+  R << t * (x * x) + c, t * (x * y) - s * z, t * (x * z) + s * y,
+       t * (x * y) + s * z, t * (y * y) + c, t * (y * z) - s * x,
+       t * (x * z) - s * y, t * (y * z) + s * x, t * (z * z) + c;
+  return R;
+}
+
+}  // namespace saltus::dynamics

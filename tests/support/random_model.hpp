@@ -1,0 +1,67 @@
+// Random kinematic trees with random inertias, joints and poses, for consistency tests. Every
+// random choice comes from the std::mt19937 passed in, so a seed fixes the model.
+#pragma once
+
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include "dynamics/builder.hpp"
+
+namespace saltus::testing {
+
+// A valid random inertia: principal moments from random positive "box" extents, rotated.
+inline void randomInertia(std::mt19937& rng, double& mass, Eigen::Vector3d& com, Eigen::Matrix3d& Ic) {
+  std::uniform_real_distribution<double> u(0.1, 1.0), s(-0.3, 0.3);
+  mass = 0.5 + 2 * u(rng);
+  com = Eigen::Vector3d(s(rng), s(rng), s(rng));
+  const double a = u(rng), b = u(rng), c = u(rng);
+  const Eigen::Vector3d d(mass * (b * b + c * c) / 12, mass * (a * a + c * c) / 12, mass * (a * a + b * b) / 12);
+  const Eigen::Matrix3d R =
+      Eigen::Quaterniond(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized().toRotationMatrix();
+  Ic = R * d.asDiagonal() * R.transpose();
+}
+
+// A random tree of n moving joints (revolute, continuous or prismatic, random axes, about one
+// in five fixed joints merged in) on the given base.
+inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
+  using namespace dynamics;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 9);
+  ModelBuilder b("random");
+  double m;
+  Eigen::Vector3d c;
+  Eigen::Matrix3d I;
+  randomInertia(rng, m, c, I);
+  b.addLink("link0", m, c, I);
+  int links = 1;
+  for (int moving = 0; moving < n;) {
+    std::uniform_int_distribution<int> pick(0, links - 1);
+    JointSpec j;
+    j.parent = "link" + std::to_string(pick(rng));
+    j.child = "link" + std::to_string(links);
+    j.name = "joint" + std::to_string(links);
+    const int k = kind(rng);
+    j.type = k < 5 ? LinkJointType::Revolute : k < 7 ? LinkJointType::Continuous
+           : k < 9 ? LinkJointType::Prismatic : LinkJointType::Fixed;
+    if (j.type != LinkJointType::Fixed) ++moving;
+    if (j.type == LinkJointType::Revolute || j.type == LinkJointType::Prismatic) j.limits = {-2, 2, 10, 100};
+    j.R_PJ = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    j.p_PJ = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.5;
+    j.axis = k % 3 == 0 ? Eigen::Vector3d::Unit(k % 3) : Eigen::Vector3d(u(rng), u(rng), u(rng));
+    randomInertia(rng, m, c, I);
+    b.addLink(j.child, m, c, I);
+    b.addJoint(j);
+    ++links;
+  }
+  return b;
+}
+
+inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale = 1.0) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  Eigen::VectorXd x(n);
+  for (int i = 0; i < n; ++i) x[i] = u(rng);
+  return x;
+}
+
+}  // namespace saltus::testing
