@@ -182,11 +182,11 @@ struct RigidInertia {
 
 // Rotation matrix (active) by angle q about a unit axis (Rodrigues).
 template <class S>
-Mat3<S> axisAngle(const Vec3<double>& axis, const S& q) {
+Mat3<S> axisAngle(const Vec3<S>& axis, const S& q) {
   using std::cos;
   using std::sin;
   const S c = cos(q), s = sin(q), t = S(1) - c;
-  const double x = axis.x(), y = axis.y(), z = axis.z();
+  const S &x = axis.x(), &y = axis.y(), &z = axis.z();
   Mat3<S> R;
   R << t * (x * x) + c, t * (x * y) - s * z, t * (x * z) + s * y,
        t * (x * y) + s * z, t * (y * y) + c, t * (y * z) - s * x,

@@ -48,7 +48,7 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
     if (j.type == LinkJointType::Revolute || j.type == LinkJointType::Prismatic) j.limits = {-2, 2, 10, 100};
     j.R_PJ = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
     j.p_PJ = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.5;
-    j.axis = k % 3 == 0 ? Eigen::Vector3d::Unit(k % 3) : Eigen::Vector3d(u(rng), u(rng), u(rng));
+    j.axis = k % 2 == 0 ? Eigen::Vector3d(Eigen::Vector3d::Unit((k / 2) % 3)) : Eigen::Vector3d(u(rng), u(rng), u(rng));
     randomInertia(rng, m, c, I);
     b.addLink(j.child, m, c, I);
     b.addJoint(j);

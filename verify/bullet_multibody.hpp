@@ -1,0 +1,69 @@
+// An independent forward-dynamics oracle: Bullet's btMultiBody (Featherstone articulated-body
+// algorithm, double precision via pkg-config bullet-float64) built from a saltus Model.
+//
+// Mapping (see bullet_multibody.cpp for the derivations):
+//  - every moving saltus body becomes one btMultiBody link whose frame sits at the body's centre
+//    of mass with principal axes (Bullet wants a diagonal inertia about the com); the joint pivot
+//    is the saltus joint origin, the axis is rotated into the principal frame;
+//  - BaseType::Fixed: Bullet's fixed base is the world;
+//  - BaseType::Free, FreeBase::Native (default): the root body becomes Bullet's floating base;
+//    the Euler-coordinate state (x, y, z, yaw, pitch, roll) and its rates are converted to the
+//    base pose and twist, base generalised forces to a wrench, and Bullet's base accelerations
+//    (ω̇, com acceleration) back to q̈ including the Euler-rate terms;
+//  - BaseType::Planar, or FreeBase::VirtualLinks: the virtual base chain is copied as massless
+//    prismatic/revolute links on a fixed Bullet base (Bullet's ABA copes with massless links
+//    whose subtree has mass).
+// Forward dynamics is Bullet's computeAccelerationsArticulatedBodyAlgorithmMultiDof with dt = 0:
+// the accelerations are read from its output, no time stepping is involved.
+#pragma once
+
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "dynamics/model.hpp"
+
+class btMultiBody;
+
+namespace saltus::verify {
+
+enum class FreeBase {
+  Native,        // the root body is Bullet's floating base
+  VirtualLinks,  // the six virtual joints become massless Bullet links on a fixed base
+};
+
+class BulletMultiBody {
+ public:
+  // Throws std::invalid_argument when the model cannot be represented (e.g. a free base whose
+  // root body is not the sixth body of the virtual chain).
+  explicit BulletMultiBody(const dynamics::Model<double>& model, FreeBase free_base = FreeBase::Native);
+  ~BulletMultiBody();
+  BulletMultiBody(const BulletMultiBody&) = delete;
+  BulletMultiBody& operator=(const BulletMultiBody&) = delete;
+
+  // q̈ in saltus coordinates (order and convention of the Model) from Bullet's articulated-body
+  // algorithm, with the Model's gravity applied as a force m g at each body's centre of mass.
+  Eigen::VectorXd forwardDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                  const Eigen::VectorXd& tau);
+
+  // Number of Bullet links (bodies other than Bullet's base).
+  int numLinks() const;
+  bool nativeFloatingBase() const { return native_free_; }
+
+  // World pose of the centre of mass of saltus body i after the last forwardDynamics call, as
+  // Bullet sees it (for kinematic cross-checks of the mapping).
+  Eigen::Vector3d comPosition(int body) const;
+
+ private:
+  void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& tau);
+
+  dynamics::Model<double> model_;
+  bool native_free_ = false;
+  int first_link_body_ = 0;  // saltus body of Bullet link 0
+  std::vector<Eigen::Matrix3d> P_;  // principal axes of each body, in body coordinates
+  std::vector<Eigen::Vector3d> c_;  // centre of mass of each body, body coordinates
+  std::vector<double> m_;
+  std::unique_ptr<btMultiBody> mb_;
+};
+
+}  // namespace saltus::verify
