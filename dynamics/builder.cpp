@@ -261,6 +261,7 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     model.parent.push_back(bp.parent);
     model.joint_type.push_back(bp.type);
     model.axis.push_back(bp.axis);
+    model.axis_kind.push_back(axisKind(bp.axis));
     model.X_tree.push_back({bp.R_PJ.transpose(), bp.p_PJ});  // parent coords -> joint coords
     model.body_name.push_back(bp.body_name);
     model.coordinate_name.push_back(bp.coordinate_name);

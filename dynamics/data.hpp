@@ -28,7 +28,8 @@ struct Data {
   VecX<S> tau;                  // RNEA result
 
   // Composite rigid bodies (CRBA, RBDA Table 6.2).
-  std::vector<RigidInertia<S>> Ic;
+  std::vector<RigidInertia<S>> Ic;  // composite inertias, world coordinates
+  std::vector<Motion<S>> S_world;   // joint motion subspaces, world coordinates
   MatX<S> M;  // joint-space inertia matrix, both triangles filled
 
   // Articulated bodies (ABA, RBDA Table 7.1).
@@ -61,6 +62,7 @@ Data<S>::Data(const Model<S>& model) {
   f.assign(n, fnan);
   tau = VecX<S>::Constant(n, nan);
   Ic.assign(n, RigidInertia<S>{nan, nan3, Mat3<S>::Constant(nan)});
+  S_world.assign(n, mnan);
   M = MatX<S>::Constant(n, n, nan);
   for (int i = 0; i < n; ++i)  // structural zeros of M: neither body supports the other
     for (int j = 0; j < n; ++j)

@@ -13,6 +13,9 @@
 
 #include <unsupported/Eigen/AutoDiff>  // after Eigen/Core
 
+#include <algorithm>
+#include <vector>
+
 namespace saltus::dynamics {
 
 template <int N>
@@ -28,7 +31,14 @@ struct DerivativeData {
         data(model),
         q(model.nv()), v(model.nv()), w(model.nv()),
         dtau_dq(model.nv(), model.nv()), dtau_dv(model.nv(), model.nv()),
-        dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()) {}
+        dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()),
+        subtree_end(model.nv()), g_n(model.nv(), Eigen::Matrix<double, 3, N>::Zero()),
+        g_f(model.nv(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nv(), false) {
+    // subtree_end[i]: one past the largest index in the subtree of i.
+    for (int i = 0; i < model.nv(); ++i) subtree_end[i] = i + 1;
+    for (int i = model.nv() - 1; i >= 0; --i)
+      if (model.parent[i] >= 0) subtree_end[model.parent[i]] = std::max(subtree_end[model.parent[i]], subtree_end[i]);
+  }
 
   Model<Dual<N>> model_dual;
   Data<Dual<N>> data_dual;
@@ -36,6 +46,12 @@ struct DerivativeData {
   VecX<Dual<N>> q, v, w;        // seeded inputs (w: q̈ for RNEA, τ for ABA)
   MatX<double> dtau_dq, dtau_dv;               // RNEA: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = M is data.M)
   MatX<double> dqdd_dq, dqdd_dv, dqdd_dtau;    // ABA: ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (= M⁻¹)
+
+  // rneaDerivatives' scratch: subtree extents and the derivative of the force each ancestor
+  // receives from the current chunk (moment and force rows, one column per direction).
+  std::vector<int> subtree_end;
+  std::vector<Eigen::Matrix<double, 3, N>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, N>>> g_n, g_f;
+  std::vector<bool> touched;
 };
 
 namespace detail {
@@ -71,17 +87,93 @@ void extract(const VecX<Dual<N>>& y, int first, int ndir, MatX<double>* blocks[3
 
 // ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈) into dd.dtau_dq, dd.dtau_dv; ∂τ/∂q̈ = M(q) into
 // dd.data.M (CRBA: RNEA is linear in q̈).
+//
+// A direction q_j or q̇_j changes the outward recursion only in the subtree of j and the inward
+// one only there and along j's ancestors. Each chunk takes N/2 consecutive coordinates with
+// both of their directions, runs the outward and inward steps in dual numbers over the bodies
+// the chunk reaches, and carries the derivative of the force transmitted to the ancestors as a
+// plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
+  static_assert(N % 2 == 0, "a chunk holds (q_j, q̇_j) pairs");
+  using D = Dual<N>;
+  using DerN = Eigen::Matrix<double, 3, N>;
+  constexpr int K = N / 2;
   const int n = model.nv();
-  MatX<double>* blocks[3] = {&dd.dtau_dq, &dd.dtau_dv, nullptr};
-  for (int first = 0; first < 2 * n; first += N) {
-    detail::seed<N>(dd.q, dd.v, dd.w, q, v, a, first);
-    rnea(dd.model_dual, dd.data_dual, dd.q, dd.v, dd.w);
-    detail::extract<N>(dd.data_dual.tau, first, 2 * n, blocks);
+  Data<double>& dat = dd.data;
+  Data<D>& dual = dd.data_dual;
+  const Model<D>& mdual = dd.model_dual;
+  rnea(model, dat, q, v, a);  // values of every body
+  dd.dtau_dq.setZero();
+  dd.dtau_dv.setZero();
+  const Motion<D> a0{Vec3<D>::Zero(), -mdual.gravity};
+  auto promote = [](const Motion<double>& m) { return Motion<D>{m.w.template cast<D>(), m.v.template cast<D>()}; };
+  for (int first = 0; first < n; first += K) {
+    const int last = std::min(first + K, n);
+    int end = last;
+    for (int j = first; j < last; ++j) end = std::max(end, dd.subtree_end[j]);
+    // Outward, over the bodies the chunk reaches.
+    for (int i = first; i < end; ++i) {
+      const int p = model.parent[i];
+      D qi(q[i]), vi(v[i]), ai(a[i]);
+      if (i < last) {
+        qi.derivatives()[2 * (i - first)] = 1.0;
+        vi.derivatives()[2 * (i - first) + 1] = 1.0;
+      }
+      if (p >= first) {
+        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &dual.v[p], dual.a_gf[p]);
+      } else if (p >= 0) {
+        const Motion<D> vp = promote(dat.v[p]);
+        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &vp, promote(dat.a_gf[p]));
+      } else {
+        rneaForwardStep<D>(mdual, dual, i, qi, vi, true, ai, nullptr, a0);
+      }
+    }
+    // Inward over the same bodies; forces leaving the range go to dd.g_n/g_f of the ancestor.
+    auto store = [&](int i, const Eigen::Matrix<double, 1, N>& dtau) {
+      for (int c = 0; c < last - first; ++c) {
+        dd.dtau_dq(i, first + c) = dtau[2 * c];
+        dd.dtau_dv(i, first + c) = dtau[2 * c + 1];
+      }
+    };
+    for (int i = end - 1; i >= first; --i) {
+      store(i, jointForce(mdual, i, dual.f[i]).derivatives().transpose());
+      const int p = model.parent[i];
+      if (p < 0) continue;
+      const Force<D> F = dual.X_up[i].applyTranspose(dual.f[i]);
+      if (p >= first) {
+        dual.f[p] += F;
+      } else {
+        for (int r = 0; r < 3; ++r) {
+          dd.g_n[p].row(r) += F.n[r].derivatives().transpose();
+          dd.g_f[p].row(r) += F.f[r].derivatives().transpose();
+        }
+        dd.touched[p] = true;
+      }
+    }
+    // Ancestors: ∂τ_p = S_pᵀ ∂f_p, and ∂f_λ(p) += ^pX_λᵀ ∂f_p with the constant double transform.
+    for (int p = first - 1; p >= 0; --p) {
+      if (!dd.touched[p]) continue;
+      const DerN& gn = dd.g_n[p];
+      const DerN& gf = dd.g_f[p];
+      const int k = model.axis_kind[p];
+      const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
+      store(p, k >= 0 ? Eigen::Matrix<double, 1, N>(along.row(k)) : Eigen::Matrix<double, 1, N>(model.axis[p].transpose() * along));
+      const int pp = model.parent[p];
+      if (pp >= 0) {
+        const Transform<double>& X = dat.X_up[p];
+        const DerN f_up = X.E.transpose() * gf;
+        dd.g_f[pp] += f_up;
+        dd.g_n[pp] += X.E.transpose() * gn + skew(X.r) * f_up;
+        dd.touched[pp] = true;
+      }
+      dd.g_n[p].setZero();
+      dd.g_f[p].setZero();
+      dd.touched[p] = false;
+    }
   }
-  crba(model, dd.data, q);
+  crba(model, dat, q);
 }
 
 // ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ of q̈ = ABA(q, q̇, τ), all by AD through aba().

@@ -74,6 +74,7 @@ struct Model {
   std::vector<int> parent;                 // λ(i), −1 for the world
   std::vector<JointType> joint_type;
   std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame
+  std::vector<int> axis_kind;              // 0, 1, 2: axis is +x, +y, +z (fast paths); −1: general
   std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
   std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
   std::vector<std::string> body_name;
@@ -112,6 +113,7 @@ struct Model {
     m.n_base = n_base;
     m.parent = parent;
     m.joint_type = joint_type;
+    m.axis_kind = axis_kind;
     m.axis.reserve(axis.size());
     for (const auto& a : axis) m.axis.push_back(a.template cast<T>());
     m.X_tree.reserve(X_tree.size());
@@ -127,6 +129,13 @@ struct Model {
     return m;
   }
 };
+
+// 0, 1, 2 when a is the unit vector +x, +y, +z; −1 otherwise.
+inline int axisKind(const Eigen::Vector3d& a) {
+  for (int k = 0; k < 3; ++k)
+    if (a == Eigen::Vector3d::Unit(k)) return k;
+  return -1;
+}
 
 template <class S>
 int Model<S>::bodyIndex(const std::string& body) const {

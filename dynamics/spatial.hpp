@@ -18,6 +18,10 @@
 
 namespace saltus::dynamics {
 
+// The small spatial operations are forced inline: GCC otherwise leaves some of them as calls
+// inside the recursions, which costs more than the arithmetic.
+#define SALTUS_INLINE inline __attribute__((always_inline))
+
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
 template <class S> using Vec6 = Eigen::Matrix<S, 6, 1>;
@@ -49,14 +53,14 @@ struct Motion {
   Vec3<S> v;  // linear velocity of the point at the frame origin
 
   static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  Motion operator+(const Motion& o) const { return {w + o.w, v + o.v}; }
-  Motion operator-(const Motion& o) const { return {w - o.w, v - o.v}; }
-  Motion& operator+=(const Motion& o) { w += o.w; v += o.v; return *this; }
-  Motion operator*(const S& s) const { return {w * s, v * s}; }
+  SALTUS_INLINE Motion operator+(const Motion& o) const { return {w + o.w, v + o.v}; }
+  SALTUS_INLINE Motion operator-(const Motion& o) const { return {w - o.w, v - o.v}; }
+  SALTUS_INLINE Motion& operator+=(const Motion& o) { w += o.w; v += o.v; return *this; }
+  SALTUS_INLINE Motion operator*(const S& s) const { return {w * s, v * s}; }
   // crm(this) * m  (RBDA 2.31): the derivative of m moving with velocity *this.
-  Motion cross(const Motion& m) const { return {w.cross(m.w), w.cross(m.v) + v.cross(m.w)}; }
+  SALTUS_INLINE Motion cross(const Motion& m) const { return {w.cross(m.w), w.cross(m.v) + v.cross(m.w)}; }
   // crf(this) * f  (RBDA 2.32).
-  Force<S> crossForce(const Force<S>& f) const;
+  SALTUS_INLINE Force<S> crossForce(const Force<S>& f) const;
   Vec6<S> vector() const { Vec6<S> x; x << w, v; return x; }
   static Motion FromVector(const Vec6<S>& x) { return {x.template head<3>(), x.template tail<3>()}; }
 };
@@ -68,23 +72,23 @@ struct Force {
   Vec3<S> f;  // force
 
   static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  Force operator+(const Force& o) const { return {n + o.n, f + o.f}; }
-  Force operator-(const Force& o) const { return {n - o.n, f - o.f}; }
-  Force& operator+=(const Force& o) { n += o.n; f += o.f; return *this; }
-  Force& operator-=(const Force& o) { n -= o.n; f -= o.f; return *this; }
-  Force operator*(const S& s) const { return {n * s, f * s}; }
+  SALTUS_INLINE Force operator+(const Force& o) const { return {n + o.n, f + o.f}; }
+  SALTUS_INLINE Force operator-(const Force& o) const { return {n - o.n, f - o.f}; }
+  SALTUS_INLINE Force& operator+=(const Force& o) { n += o.n; f += o.f; return *this; }
+  SALTUS_INLINE Force& operator-=(const Force& o) { n -= o.n; f -= o.f; return *this; }
+  SALTUS_INLINE Force operator*(const S& s) const { return {n * s, f * s}; }
   Vec6<S> vector() const { Vec6<S> x; x << n, f; return x; }
   static Force FromVector(const Vec6<S>& x) { return {x.template head<3>(), x.template tail<3>()}; }
 };
 
 template <class S>
-Force<S> Motion<S>::crossForce(const Force<S>& f) const {
+SALTUS_INLINE Force<S> Motion<S>::crossForce(const Force<S>& f) const {
   return {w.cross(f.n) + v.cross(f.f), w.cross(f.f)};
 }
 
 // Scalar product of a motion and a force (power).
 template <class S>
-S dot(const Motion<S>& m, const Force<S>& f) {
+SALTUS_INLINE S dot(const Motion<S>& m, const Force<S>& f) {
   return m.w.dot(f.n) + m.v.dot(f.f);
 }
 
@@ -97,25 +101,25 @@ struct Transform {
   static Transform Identity() { return {Mat3<S>::Identity(), Vec3<S>::Zero()}; }
 
   // X m: motion from A to B coordinates.
-  Motion<S> apply(const Motion<S>& m) const {
+  SALTUS_INLINE Motion<S> apply(const Motion<S>& m) const {
     return {E * m.w, E * (m.v - r.cross(m.w))};
   }
   // X* f: force from A to B coordinates.
-  Force<S> apply(const Force<S>& f) const {
+  SALTUS_INLINE Force<S> apply(const Force<S>& f) const {
     return {E * (f.n - r.cross(f.f)), E * f.f};
   }
   // X⁻¹ m: motion from B to A coordinates.
-  Motion<S> applyInverse(const Motion<S>& m) const {
+  SALTUS_INLINE Motion<S> applyInverse(const Motion<S>& m) const {
     const Vec3<S> w = E.transpose() * m.w;
     return {w, E.transpose() * m.v + r.cross(w)};
   }
   // Xᵀ f = (X*)⁻¹ f: force from B to A coordinates (RBDA 2.25).
-  Force<S> applyTranspose(const Force<S>& f) const {
+  SALTUS_INLINE Force<S> applyTranspose(const Force<S>& f) const {
     const Vec3<S> ff = E.transpose() * f.f;
     return {E.transpose() * f.n + r.cross(ff), ff};
   }
   // (C_X_B) * (B_X_A) = C_X_A  (RBDA Table 2.2).
-  Transform operator*(const Transform& bXa) const {
+  SALTUS_INLINE Transform operator*(const Transform& bXa) const {
     return {E * bXa.E, bXa.r + bXa.E.transpose() * r};
   }
   // A_X_B.
@@ -148,23 +152,37 @@ struct RigidInertia {
     return {mass, c * mass, Ic - mass * cx * cx};
   }
 
-  RigidInertia operator+(const RigidInertia& o) const { return {m + o.m, h + o.h, I + o.I}; }
-  RigidInertia& operator+=(const RigidInertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
+  SALTUS_INLINE RigidInertia operator+(const RigidInertia& o) const { return {m + o.m, h + o.h, I + o.I}; }
+  SALTUS_INLINE RigidInertia& operator+=(const RigidInertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
 
   // I v  (RBDA 2.62).
-  Force<S> operator*(const Motion<S>& v) const {
+  SALTUS_INLINE Force<S> operator*(const Motion<S>& v) const {
     return {I * v.w + h.cross(v.v), m * v.v - h.cross(v.w)};
   }
 
   // Xᵀ I X: this inertia is expressed in B coordinates; returns it in A coordinates, where
-  // X = B_X_A (RBDA Table 2.5).
+  // X = B_X_A (RBDA Table 2.5). With h' = Eᵀh, Ī' = Eᵀ Ī E and a×b× = b aᵀ − (a·b)1:
+  //   h_A = h' + m r,   Ī_A = Ī' − h' rᵀ − r h_Aᵀ + (2 r·h' + m r·r) 1.
   RigidInertia transformedBy(const Transform<S>& X) const {
-    const Vec3<S> hA0 = X.E.transpose() * h;  // first moment about B's origin, A axes
-    const Mat3<S> IA0 = X.E.transpose() * I * X.E;
-    const Mat3<S> rx = skew(X.r);
-    const Mat3<S> hx = skew(hA0);
-    // Ī_A = Eᵀ Ī E - (r× h× + h× r× + m r× r×), h_A = Eᵀ h + m r.
-    return {m, hA0 + m * X.r, IA0 - (rx * hx + hx * rx + m * rx * rx)};
+    const Mat3<S>& E = X.E;
+    const Vec3<S>& r = X.r;
+    RigidInertia out;
+    out.m = m;
+    const Vec3<S> h1 = E.transpose() * h;
+    out.h = h1 + m * r;
+    const S diag = S(2) * r.dot(h1) + m * r.dot(r);
+    // Ī' = Eᵀ Ī E, one triangle, mirrored.
+    Mat3<S> IE;
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) IE(k, c) = I(k, 0) * E(0, c) + I(k, 1) * E(1, c) + I(k, 2) * E(2, c);
+    for (int c = 0; c < 3; ++c)
+      for (int k = c; k < 3; ++k) {
+        S x = E(0, k) * IE(0, c) + E(1, k) * IE(1, c) + E(2, k) * IE(2, c) - h1[k] * r[c] - r[k] * out.h[c];
+        if (k == c) x += diag;
+        out.I(k, c) = x;
+        out.I(c, k) = x;
+      }
+    return out;
   }
 
   Mat6<S> matrix() const {
