@@ -74,7 +74,7 @@ urdf::ModelInterfaceSharedPtr parseWithUrdfdom(const std::string& xml, std::vect
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_WARN);
   urdf::ModelInterfaceSharedPtr model;
   try {
-    const IgnoreUrdfdomLeaks ignore_leaks;
+    [[maybe_unused]] const IgnoreUrdfdomLeaks ignore_leaks;
     model = urdf::parseURDF(xml);
   } catch (const std::exception& e) {
     messages.push_back({console_bridge::CONSOLE_BRIDGE_LOG_ERROR, e.what()});

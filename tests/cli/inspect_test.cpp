@@ -43,8 +43,12 @@ Result saltus(const std::vector<std::string>& args) {
   const std::filesystem::path err_path =
       std::filesystem::temp_directory_path() / ("saltus_cli_test_" + std::to_string(::getpid()) + ".stderr");
   std::string cmd = shellQuote(SALTUS_BINARY);
-  for (const auto& a : args) cmd += " " + shellQuote(a);
-  cmd += " </dev/null 2>";  // (two statements: "literal" + std::string&& trips GCC 12's -Wrestrict)
+  // Appended piece by piece: "literal" + std::string&& trips a false -Wrestrict in GCC 12.
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += shellQuote(a);
+  }
+  cmd += " </dev/null 2>";
   cmd += shellQuote(err_path.string());
   Result r;
   FILE* pipe = ::popen(cmd.c_str(), "r");

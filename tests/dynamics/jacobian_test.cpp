@@ -31,7 +31,9 @@ TEST(Jacobian, PointJacobianIsDerivativeOfPosition) {
         forwardKinematics(model, data, qm);
         const Eigen::Vector3d pm = pointPosition(data, b, p);
         EXPECT_LT((J.col(j) - (pp - pm) / (2 * eps)).norm(), 1e-8) << toString(base) << " body " << b << " coordinate " << j;
-        if (!model.isAncestor(j, b)) EXPECT_EQ(J.col(j).norm(), 0.0);
+        if (!model.isAncestor(j, b)) {
+          EXPECT_EQ(J.col(j).norm(), 0.0);
+        }
       }
     }
   }
