@@ -85,6 +85,11 @@ ModelBuilder& ModelBuilder::setSource(std::string source) {
   return *this;
 }
 
+ModelBuilder& ModelBuilder::requireInertials(bool require) {
+  require_inertials_ = require;
+  return *this;
+}
+
 void ModelBuilder::fail(const std::string& what) const { throw ModelError(source_ + ": " + what); }
 
 int ModelBuilder::linkIndex(const std::string& name) const {
@@ -249,11 +254,17 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     model.inertia[b] += RigidInertia<double>::FromCom(ls.mass, c_B, Ic_B);
     has_inertial[b] = true;
   }
+  std::vector<double> subtree_mass(nb, 0.0);
+  for (int b = nb - 1; b >= 0; --b) {
+    subtree_mass[b] += model.inertia[b].m;
+    if (bodies[b].parent >= 0) subtree_mass[bodies[b].parent] += subtree_mass[b];
+  }
   for (int b = 0; b < nb; ++b) {
     const int l = moving_link_of_body[b];
-    if (l >= 0 && !has_inertial[b])
+    if (l >= 0 && !has_inertial[b] && (require_inertials_ || !(subtree_mass[b] > 0)))
       fail("link '" + links_[l].name + "' moves (joint '" + bodies[b].coordinate_name +
-           "') but neither it nor any link fixed to it has an <inertial> element");
+           "') but neither it nor any link fixed to it has an <inertial> element" +
+           (require_inertials_ ? "" : ", and no body below it has mass"));
   }
 
   for (int b = 0; b < nb; ++b) {
@@ -262,6 +273,8 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     model.joint_type.push_back(bp.type);
     model.axis.push_back(bp.axis);
     model.axis_kind.push_back(axisKind(bp.axis));
+    const RigidInertia<double>& I = model.inertia[b];
+    model.massless.push_back(I.m == 0 && I.h.isZero(0) && I.I.isZero(0));
     model.X_tree.push_back({bp.R_PJ.transpose(), bp.p_PJ});  // parent coords -> joint coords
     model.body_name.push_back(bp.body_name);
     model.coordinate_name.push_back(bp.coordinate_name);

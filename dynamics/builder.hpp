@@ -56,6 +56,10 @@ class ModelBuilder {
   ModelBuilder& addVisual(const std::string& link, Visual visual);
   // Prefix of every error message, e.g. the file the model came from.
   ModelBuilder& setSource(std::string source);
+  // When set (the URDF reader sets it), every moving link must carry an <inertial> of its own
+  // or through a link fixed to it. Otherwise a massless moving link is accepted as long as some
+  // body below it has mass (an intermediate link of a multi-axis joint); a massless leaf never is.
+  ModelBuilder& requireInertials(bool require);
 
   // Throws ModelError naming the offending link or joint.
   Model<double> build(BaseType base = BaseType::Fixed,
@@ -70,6 +74,7 @@ class ModelBuilder {
 
   std::string name_;
   std::string source_ = "builder";
+  bool require_inertials_ = false;
   std::vector<LinkSpec> links_;
   std::vector<JointSpec> joints_;
 };

@@ -20,7 +20,8 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
     const int p = model.parent[i];
     data.X_up[i] = jointTransformUp(model, i, q[i]);
     data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
-    data.Ic[i] = model.inertia[i].transformedBy(data.X_world[i]);          // I_i in world coordinates
+    data.Ic[i] = model.massless[i] ? RigidInertia<S>::Zero()
+                                   : model.inertia[i].transformedBy(data.X_world[i]);  // I_i in world coordinates
     data.S_world[i] = data.X_world[i].applyInverse(motionSubspace(model, i));  // ^0X_i S_i
   }
   for (int i = n - 1; i >= 0; --i) {

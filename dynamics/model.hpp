@@ -77,6 +77,7 @@ struct Model {
   std::vector<int> axis_kind;              // 0, 1, 2: axis is +x, +y, +z (fast paths); −1: general
   std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
   std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
+  std::vector<bool> massless;              // I_i = 0 (virtual bodies of a floating base)
   std::vector<std::string> body_name;
   std::vector<std::string> coordinate_name;  // URDF joint name (or base_x ...)
   std::vector<JointLimits> limits;
@@ -120,6 +121,7 @@ struct Model {
     for (const auto& X : X_tree) m.X_tree.push_back(X.template cast<T>());
     m.inertia.reserve(inertia.size());
     for (const auto& I : inertia) m.inertia.push_back(I.template cast<T>());
+    m.massless = massless;
     m.body_name = body_name;
     m.coordinate_name = coordinate_name;
     m.limits = limits;

@@ -25,7 +25,10 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
   }
   data.a_gf[i] = ai;
   const RigidInertia<S>& I = model.inertia[i];
-  data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
+  if (model.massless[i])  // a virtual base body carries no force of its own
+    data.f[i] = Force<S>::Zero();
+  else
+    data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
 }
 
 namespace detail {

@@ -1,0 +1,248 @@
+// The time-stepper against analytic answers (../shared/reference/facts.md §3), conservation
+// and dissipation, convergence order on a smooth phase, and the Painlevé paradox.
+#include "timestepper/stepper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "dynamics/aba.hpp"
+#include "tests/support/scenes.hpp"
+
+namespace saltus::timestepper {
+namespace {
+
+constexpr double g = 9.81;
+
+StepperOptions options(double dt, double theta = 0.5, LcpMethod solver = LcpMethod::Lemke) {
+  StepperOptions o;
+  o.dt = dt;
+  o.theta = theta;
+  o.solver = solver;
+  return o;
+}
+
+// Apex heights after each bounce and the time the ball comes to rest.
+struct Bounces {
+  std::vector<double> apex;
+  double rest_time = -1;
+};
+
+Bounces dropBall(double h0, double e, double dt, double duration) {
+  TimeStepper sim(testing::ballDrop(h0, e), options(dt));
+  Bounces out;
+  double prev_v = 0, top = 0;
+  bool rising = false;
+  while (sim.time() < duration) {
+    sim.step();
+    const double z = sim.q()[0], v = sim.v()[0];
+    if (v > 0 && prev_v <= 0) rising = true, top = z;
+    if (rising) top = std::max(top, z);
+    if (rising && v <= 0 && prev_v > 0) rising = false, out.apex.push_back(top);
+    if (out.rest_time < 0 && std::abs(v) < 1e-9 && z < 1e-6 && sim.contacts()[0].active) out.rest_time = sim.time();
+    prev_v = v;
+  }
+  return out;
+}
+
+TEST(Stepper, BallApexHeightsAndTimeToRest) {
+  const double h0 = 1.0, dt = 1e-4;
+  for (double e : {0.3, 0.5, 0.8}) {
+    const double t_rest = std::sqrt(2 * h0 / g) * (1 + e) / (1 - e);
+    const Bounces b = dropBall(h0, e, dt, t_rest + 1.0);
+    ASSERT_GE(b.apex.size(), 2u) << "e = " << e;
+    for (int k = 1; k <= 2; ++k)  // h_k = e^(2k) h0
+      EXPECT_NEAR(b.apex[k - 1], std::pow(e, 2 * k) * h0, 2e-3 * h0) << "e = " << e << ", bounce " << k;
+    EXPECT_NEAR(b.rest_time, t_rest, 0.01 * t_rest) << "e = " << e;
+  }
+}
+
+TEST(Stepper, InelasticBallStopsAtTheGround) {
+  TimeStepper sim(testing::ballDrop(0.5, 0.0), options(1e-3, 1.0));
+  while (sim.time() < 1.0) sim.step();
+  EXPECT_NEAR(sim.q()[0], 0.0, 1e-3);
+  EXPECT_NEAR(sim.v()[0], 0.0, 1e-9);
+  EXPECT_GE(sim.contacts()[0].gap, -1e-9);
+  // At rest the normal impulse per step carries the weight: p_n = m g dt.
+  EXPECT_NEAR(sim.contacts()[0].pn, g * 1e-3, 1e-9);
+}
+
+TEST(Stepper, BlockStoppingDistanceAndTime) {
+  const double v0 = 2.0, mu = 0.3, dt = 1e-4;
+  TimeStepper sim(testing::blockSlide(0.0, v0, mu), options(dt, 1.0));
+  double stop_time = -1;
+  while (sim.time() < 1.5) {
+    sim.step();
+    if (stop_time < 0 && std::abs(sim.v()[0]) < 1e-12) stop_time = sim.time();
+  }
+  EXPECT_NEAR(sim.q()[0], v0 * v0 / (2 * mu * g), 5 * v0 * dt);
+  EXPECT_NEAR(stop_time, v0 / (mu * g), 2 * dt);
+  EXPECT_NEAR(sim.q()[1], 0.0, 1e-9);
+}
+
+TEST(Stepper, InclineSticksOrSlipsEitherSideOfTanAlphaEqualsMu) {
+  const double mu = 0.4, dt = 1e-3, T = 0.5;
+  const double alpha_c = std::atan(mu);
+  // Just below the friction angle: stays at rest.
+  {
+    TimeStepper sim(testing::blockSlide(alpha_c - 0.02, 0.0, mu), options(dt, 1.0));
+    while (sim.time() < T) sim.step();
+    EXPECT_NEAR(sim.q()[0], 0.0, 1e-12);
+    EXPECT_NEAR(sim.contacts()[0].vt1, 0.0, 1e-12);
+  }
+  // Just above: slides with a = g (sin α − μ cos α).
+  {
+    const double alpha = alpha_c + 0.1;
+    TimeStepper sim(testing::blockSlide(alpha, 0.0, mu), options(dt, 1.0));
+    while (sim.time() < T - 1e-12) sim.step();
+    const double a = g * (std::sin(alpha) - mu * std::cos(alpha));
+    EXPECT_NEAR(sim.v()[0], a * T, 1e-9);
+    EXPECT_NEAR(sim.q()[0], 0.5 * a * T * T, a * T * dt);
+  }
+}
+
+TEST(Stepper, FrictionAlongAndBetweenConeFacets) {
+  const double mu = 0.5, dt = 1e-3;
+  for (int k : {4, 8}) {
+    // Sliding along a facet direction (x): the full μ.
+    TimeStepper along(testing::particle3d(Eigen::Vector2d(1, 0), mu, k), options(dt, 1.0));
+    along.step();
+    EXPECT_NEAR(-along.contacts()[0].pt1 / along.contacts()[0].pn, mu, 1e-9) << "k = " << k;
+    // Sliding between two facet directions: the impulse along the motion is μ cos(π/k) p_n.
+    const Eigen::Vector2d dir(std::cos(M_PI / k), std::sin(M_PI / k));
+    TimeStepper between(testing::particle3d(dir, mu, k), options(dt, 1.0));
+    between.step();
+    const ContactReport& r = between.contacts()[0];
+    EXPECT_NEAR(-(r.pt1 * dir.x() + r.pt2 * dir.y()) / r.pn, mu * std::cos(M_PI / k), 1e-9) << "k = " << k;
+  }
+}
+
+TEST(Stepper, PendulumOnConveyorSticksAfterTheBeltSteps) {
+  const double dt = 1e-3, step_time = 0.1, vb = 0.5;
+  TimeStepper sim(testing::pendulumConveyor(2.0, vb, step_time), options(dt, 1.0));
+  bool impulse_seen = false;
+  while (sim.time() < 0.3) {
+    sim.step();
+    const ContactReport& r = sim.contacts()[0];
+    // The contact never opens and the tip never sinks into the belt.
+    EXPECT_TRUE(r.active) << "t = " << sim.time();
+    EXPECT_GT(r.gap, -1e-6) << "t = " << sim.time();
+    if (sim.time() > step_time - 1e-9) {  // the step ending at step_time sees the new belt speed
+      // After the step the tip moves with the belt: the relative tangential velocity is zero
+      // where the step was linearised; at the end of the step it differs by the change of the
+      // contact Jacobian over one step, O(dt |v|²).
+      EXPECT_NEAR(r.vt1, 0.0, 1e-4) << "t = " << sim.time();
+      // The first step after the belt jumps carries a tangential impulse of order m Δv.
+      if (!impulse_seen) impulse_seen = std::abs(r.pt1) > 0.05;
+      EXPECT_LE(std::abs(r.pt1), 2.0 * r.pn + 1e-12);
+    }
+  }
+  EXPECT_TRUE(impulse_seen);
+}
+
+TEST(Stepper, PainleveRodStopsSlippingByAnImpulse) {
+  const double mu = 2.0, angle = std::atan(2.0), dt = 1e-4;
+  // The paradox region: B = 1 + 3cos²θ − 3μ sinθ cosθ < 0 (facts.md §3).
+  ASSERT_LT(1 + 3 * std::pow(std::cos(angle), 2) - 3 * mu * std::sin(angle) * std::cos(angle), 0);
+  TimeStepper sim(testing::painleveRod(mu, angle, 1.0), options(dt, 1.0));
+  const double E0 = sim.energy();
+  sim.step();
+  const ContactReport& first = sim.contacts()[0];
+  // Slip ends within the first step, by a finite tangential impulse (an impact without collision);
+  // the relative velocity is zero where the step is linearised, O(dt) away at its end.
+  EXPECT_NEAR(first.vt1, 0.0, 1e-4);
+  EXPECT_LT(first.pt1, -0.1);
+  double E_prev = sim.energy();
+  EXPECT_LE(E_prev, E0 + 1e-12);
+  while (sim.time() < 1.0) {
+    sim.step();
+    EXPECT_TRUE(sim.q().allFinite());
+    EXPECT_GT(sim.contacts()[0].gap, -1e-6);
+    const double E = sim.energy();
+    EXPECT_LE(E, E_prev + 1e-9) << "t = " << sim.time();
+    E_prev = E;
+  }
+}
+
+TEST(Stepper, PassiveInelasticScenesNeverGainEnergy) {
+  std::vector<Scene> scenes = {testing::ballDrop(0.7, 0.0), testing::blockSlide(0.3, 1.5, 0.2),
+                               testing::painleveRod(0.5, 0.6, 2.0)};
+  for (const Scene& scene : scenes) {
+    for (double theta : {1.0, 0.5}) {
+      TimeStepper sim(scene, options(1e-3, theta));
+      double E_prev = sim.energy();
+      while (sim.time() < 1.0) {
+        sim.step();
+        const double E = sim.energy();
+        EXPECT_LE(E, E_prev + 1e-9) << scene.name << " θ = " << theta << " t = " << sim.time();
+        E_prev = E;
+      }
+    }
+  }
+}
+
+// A free swing of the double pendulum (no contact): the error at T against RK4 on ABA with a
+// tiny step falls as dt^1 for θ = 1 and dt^2 for θ = ½.
+TEST(Stepper, ConvergenceOrderOnASmoothPhase) {
+  Scene scene = testing::pendulumConveyor(0.0, 0.0, 1.0);
+  scene.contacts.clear();
+  scene.surfaces.clear();
+  scene.q0 = Eigen::Vector2d(0.8, -0.4);
+  const double T = 0.5;
+  // Reference: RK4 on (q, v) with q̈ = ABA(q, v, 0).
+  dynamics::Data<double> data(scene.model);
+  Eigen::VectorXd q = scene.q0, v = scene.v0;
+  const int n_ref = 20000;
+  const double h = T / n_ref;
+  auto acc = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv) {
+    return Eigen::VectorXd(dynamics::aba(scene.model, data, qq, vv, Eigen::VectorXd::Zero(2)));
+  };
+  for (int i = 0; i < n_ref; ++i) {
+    const Eigen::VectorXd k1q = v, k1v = acc(q, v);
+    const Eigen::VectorXd k2q = v + h / 2 * k1v, k2v = acc(q + h / 2 * k1q, v + h / 2 * k1v);
+    const Eigen::VectorXd k3q = v + h / 2 * k2v, k3v = acc(q + h / 2 * k2q, v + h / 2 * k2v);
+    const Eigen::VectorXd k4q = v + h * k3v, k4v = acc(q + h * k3q, v + h * k3v);
+    q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
+    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+  }
+  for (double theta : {1.0, 0.5}) {
+    std::vector<double> errors;
+    for (int n : {250, 500, 1000}) {
+      TimeStepper sim(scene, options(T / n, theta));
+      for (int i = 0; i < n; ++i) sim.step();
+      errors.push_back((sim.q() - q).norm());
+    }
+    const double order = std::log2(errors[1] / errors[2]);
+    const double expected = theta == 1.0 ? 1.0 : 2.0;
+    EXPECT_NEAR(order, expected, 0.15) << "θ = " << theta << ", errors " << errors[0] << " " << errors[1] << " " << errors[2];
+  }
+}
+
+TEST(Stepper, PgsAgreesWithLemkeOnTheBallDrop) {
+  TimeStepper lemke(testing::ballDrop(1.0, 0.5), options(1e-3, 0.5, LcpMethod::Lemke));
+  TimeStepper pgs(testing::ballDrop(1.0, 0.5), options(1e-3, 0.5, LcpMethod::Pgs));
+  while (lemke.time() < 1.5) lemke.step(), pgs.step();
+  EXPECT_NEAR(lemke.q()[0], pgs.q()[0], 1e-9);
+  EXPECT_EQ(pgs.stats().lcp_failures, 0);
+}
+
+TEST(Stepper, SolverFailureIsReportedWithTimeAndContacts) {
+  // PGS with one iteration cannot meet its tolerance on the friction LCP of the sliding block:
+  // the step must throw, naming the time and the active contact, never return a wrong answer.
+  StepperOptions o = options(1e-3, 1.0, LcpMethod::Pgs);
+  o.pgs_iterations = 1;
+  TimeStepper sim(testing::blockSlide(0.0, 2.0, 0.3), o);
+  try {
+    sim.step();
+    FAIL() << "expected a SimulationError";
+  } catch (const SimulationError& e) {
+    EXPECT_NEAR(e.time, 0.0, 1e-12);
+    ASSERT_EQ(e.active.size(), 1u);
+    EXPECT_EQ(e.active[0], "block");
+    EXPECT_NE(std::string(e.what()).find("pgs"), std::string::npos);
+  }
+  EXPECT_EQ(sim.stats().lcp_failures, 1);
+}
+
+}  // namespace
+}  // namespace saltus::timestepper

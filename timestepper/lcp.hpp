@@ -1,0 +1,97 @@
+// Linear complementarity problems of the time-stepper: given M (n x n) and q, find z with
+//   z ≥ 0,   w = M z + q ≥ 0,   zᵀ w = 0
+// (CPS = R. W. Cottle, J.-S. Pang, R. E. Stone, "The Linear Complementarity Problem",
+// Academic Press 1992, §1.1).
+//
+// The velocity-level contact LCP of the Stewart–Trinkle / Anitescu–Potra time-stepper with
+// polyhedral friction cones (D. E. Stewart, J. C. Trinkle, IJNME 39, 1996; M. Anitescu,
+// F. A. Potra, Nonlinear Dynamics 14, 1997) has
+//   M = [Jn A Jnᵀ  Jn A Dᵀ  0;  D A Jnᵀ  D A Dᵀ  E;  μ  −Eᵀ  0],   A = M_mass⁻¹,
+// which is copositive-plus but neither symmetric nor a P-matrix, with a zero diagonal block for
+// the friction-cone slack λ. Lemke's method processes that class: with a covering vector d > 0 it
+// stops either at a solution or on a secondary ray, and for copositive-plus M a secondary ray
+// proves that the LCP is infeasible (CPS §4.4). The lexicographic minimum-ratio rule
+// (CPS §4.9) keeps every row of [B⁻¹q  B⁻¹] lexicographically positive, so no almost
+// complementary basis repeats and degenerate problems cannot cycle.
+//
+// Siconos Numerics' lcp_lexicolemke mallocs its tableau on every call, which is why Saltus has
+// its own solver (the time-stepper must not allocate per step). The tests use Siconos as the
+// reference implementation.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace saltus::timestepper {
+
+enum class LcpStatus {
+  Solved,          // z, w satisfy the LCP up to round-off; residual says how well
+  RayTermination,  // Lemke ended on a secondary ray: no solution found (infeasible if M is copositive-plus)
+  IterationLimit,  // Lemke used up its pivots before z0 left the basis
+  NotConverged,    // PGS stopped at max_iterations above tolerance; or Lemke's final basis failed the residual check
+  NonFinite,       // M, q (or PGS' warm start) hold NaN or infinity, or a pivot produced one
+};
+const char* toString(LcpStatus status);
+
+struct LcpResult {
+  LcpStatus status;
+  int iterations;   // Lemke: pivots, the one that brings z0 in included; PGS: sweeps
+  double residual;  // lcp residual of the returned z, w (see lcpResidual); +inf on NonFinite
+};
+
+// max_i |min(z_i, w_i)| + max(0, max_i −z_i, max_i −w_i) with w = M z + q. Zero exactly at a
+// solution; on the scale of z and w otherwise. Does not allocate.
+double lcpResidual(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                   const Eigen::Ref<const Eigen::VectorXd>& z);
+
+// Dense LCP solvers over a workspace sized once for the largest problem. Solving a problem of
+// size n <= capacity() performs no heap allocation. Size mismatches and n > capacity() are
+// programming errors and throw std::invalid_argument.
+class LcpSolver {
+ public:
+  explicit LcpSolver(int capacity);
+
+  // Lemke's complementary pivoting with covering vector d = (1, …, 1) (CPS §4.4) and
+  // the lexicographic minimum-ratio test (CPS §4.9). The basis inverse is kept explicitly and
+  // updated by one elimination per pivot, O(n²); the final basic solution gets one step of
+  // iterative refinement against M and q. On RayTermination and IterationLimit, z is the last
+  // basic solution without z0 (not a solution) and w = M z + q. max_pivots = 0 means 50 n + 100.
+  LcpResult solveLemke(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                       Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
+
+  // Projected Gauss–Seidel / SOR (CPS chapter 5), warm-started from z (negative entries are
+  // projected to 0): z_i ← max(0, z_i − ω w_i / d_i) row by row, w updated along.
+  // Stops when the residual is <= tolerance (Solved) or after max_iterations sweeps
+  // (NotConverged). Converges for symmetric positive definite M and 0 < ω < 2 (C. W. Cryer,
+  // SIAM J. Control 9, 1971); for other M it may not.
+  // Rows with M_ii <= 0 — the friction-cone slack λ of the contact LCP — cannot take a plain
+  // Gauss–Seidel step. For them d_i is the diagonal after one block elimination of the rows
+  // with positive diagonal, d_i = M_ii − Σ_{j: M_jj > 0} M_ij M_ji / M_jj: for a λ row that is
+  // Σ_j 1 / (D A Dᵀ)_jj over the contact's friction directions, the rate at which w_λ grows when
+  // λ grows and those directions' β answer by their own Gauss–Seidel steps. Rows where this is
+  // still <= 0 are left at their warm-start value. PGS is therefore approximate on the friction
+  // LCP: it often stalls above tolerance there and then says so (NotConverged); use Lemke for
+  // exact contact solutions.
+  LcpResult solvePgs(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                     Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_iterations = 200,
+                     double tolerance = 1e-10, double relaxation = 1.0);
+
+  int capacity() const { return capacity_; }
+
+ private:
+  void checkSizes(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                  const Eigen::Ref<Eigen::VectorXd>& z, const Eigen::Ref<Eigen::VectorXd>& w) const;
+
+  int capacity_;
+  // Lemke: basis inverse B⁻¹ of the system I w − M z − d z0 = q, values of the basic variables
+  // x_B = B⁻¹ q, the entering column B⁻¹ a_s and two round-off scales per row (Σ_k |B⁻¹_ik a_k|
+  // and Σ_k |B⁻¹_ik q_k|), the pivot row, the label of each row's basic variable
+  // (w_j = j, z_j = n + j, z0 = 2n) and the rows tied in the ratio test.
+  Eigen::MatrixXd basis_inverse_;
+  Eigen::VectorXd basic_value_, entering_column_, column_scale_, value_scale_, pivot_row_;
+  std::vector<int> basic_variable_, tied_rows_;
+  // PGS: the diagonal d_i each row divides by.
+  Eigen::VectorXd pgs_diagonal_;
+};
+
+}  // namespace saltus::timestepper

@@ -1,0 +1,45 @@
+// Scenario files: a Scene (scene.hpp) written in YAML, with named parameters that any number in
+// the file may use in an expression (muparser), and overrides from the command line
+// (`--set name=value`). The format is documented in models/scenes/README.md; the built-in scenes
+// are models/scenes/<name>.yaml.
+//
+// Every error is a ScenarioError whose message starts with the file and the position of the
+// offending node, then the key path and what was expected, e.g.
+//   models/scenes/x.yaml:14:15: contacts[1].surface: unknown surface 'blet'; surfaces: ground, belt
+// Errors of a URDF model keep the URDF reader's message (which names the URDF file), prefixed by
+// the position of the `urdf:` key in the scenario file.
+#pragma once
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "timestepper/scene.hpp"
+
+namespace saltus::timestepper {
+
+class ScenarioError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Loads a scenario by built-in name (models/scenes/<name>.yaml in the directory
+// scenesDirectory() returns) or by file path (anything containing '/' or ending in .yaml/.yml,
+// or an existing file). `overrides` replace parameter defaults; one naming no parameter of the
+// scene is an error that lists the scene's parameters.
+// Scene::source is "builtin:<name>" for a built-in scene, else the path as given.
+Scene loadScene(const std::string& name_or_path, const std::map<std::string, double>& overrides = {});
+
+// Parses `--set` assignments "name=value"; value is a number or a constant expression (pi/4).
+// A later assignment to the same name wins. Throws ScenarioError naming the bad item.
+std::map<std::string, double> parseOverrides(const std::vector<std::string>& assignments);
+
+// Names of the built-in scenes, sorted.
+std::vector<std::string> builtinSceneNames();
+
+// Where built-in scenes are looked up: $SALTUS_SCENES_DIR when set and non-empty, else
+// <source tree>/models/scenes.
+std::string scenesDirectory();
+
+}  // namespace saltus::timestepper

@@ -1,0 +1,73 @@
+// A simulation scene: the model, its surfaces and contacts, joint-limit stops, the initial state
+// and the named parameters it was made from. Built from a scenario file (scenario.hpp) or in
+// C++; read by the time-stepper (stepper.hpp), the collocation transcription and the renderer.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "dynamics/model.hpp"
+
+namespace saltus::timestepper {
+
+// A plane {x : n·(x − p) = 0} whose material moves tangentially with a prescribed velocity
+// schedule (a conveyor belt): velocity(t) = the last step's value with time ≤ t, zero before the
+// first. The velocity must be tangent to the plane.
+struct Surface {
+  std::string name;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
+  struct Step {
+    double time;
+    Eigen::Vector3d velocity;
+  };
+  std::vector<Step> velocity_schedule;  // sorted by time
+
+  Eigen::Vector3d velocity(double t) const {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (const Step& s : velocity_schedule)
+      if (s.time <= t) v = s.velocity;
+    return v;
+  }
+  double gap(const Eigen::Vector3d& x) const { return normal.dot(x - point); }
+};
+
+// A point fixed on a body touching a surface (unilateral normal, Coulomb friction with a
+// polyhedral cone of `directions` unit vectors in the tangent plane, Newton restitution).
+struct Contact {
+  std::string name;
+  std::string link;   // URDF link (frame) the point is given in
+  int body = -1;      // body the point moves with
+  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // the point in body coordinates
+  int surface = 0;    // index into Scene::surfaces
+  double restitution = 0;
+  double friction = 0;
+  int directions = 0;  // k: 0 frictionless, 2 planar, ≥ 4 spatial
+};
+
+// A joint-limit hard stop: a frictionless unilateral contact on coordinate `coordinate`,
+// gap = q − lower (upper = false) or upper − q (upper = true).
+struct LimitStop {
+  std::string name;
+  int coordinate = 0;
+  bool upper = false;
+  double limit = 0;
+  double restitution = 0;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::string source;  // scenario file, or "builtin:<name>"
+  dynamics::Model<double> model;
+  std::vector<Surface> surfaces;
+  std::vector<Contact> contacts;
+  std::vector<LimitStop> limits;
+  Eigen::VectorXd q0, v0;     // initial state (model coordinate order)
+  Eigen::VectorXd tau;        // constant generalised input (zero when the scene has none)
+  double duration = 1.0;      // default simulated time [s]
+  std::map<std::string, double> parameters;  // the values used, after --set overrides
+};
+
+}  // namespace saltus::timestepper

@@ -1,0 +1,339 @@
+#include "timestepper/stepper.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "dynamics/crba.hpp"
+#include "dynamics/energy.hpp"
+#include "dynamics/jacobian.hpp"
+#include "dynamics/kinematics.hpp"
+#include "dynamics/rnea.hpp"
+
+namespace saltus::timestepper {
+
+namespace {
+// t1: the world x axis (else y) projected onto the plane; t2 = n × t1. In a scene moving in
+// the x–z plane with a horizontal surface this makes t1 = x.
+Eigen::Matrix<double, 3, 2> makeTangentBasis(const Eigen::Vector3d& n) {
+  Eigen::Vector3d a = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d t1 = (a - a.dot(n) * n).normalized();
+  Eigen::Matrix<double, 3, 2> T;
+  T << t1, n.cross(t1);
+  return T;
+}
+
+// The k unit directions of the polyhedral cone (paper eq. 11): ±t1 for k = 2, otherwise evenly
+// spaced in the tangent plane starting at t1.
+Eigen::Vector3d frictionDirection(const Eigen::Matrix<double, 3, 2>& T, int j, int k) {
+  const double angle = 2 * M_PI * j / k;
+  return std::cos(angle) * T.col(0) + std::sin(angle) * T.col(1);
+}
+}  // namespace
+
+TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
+    : scene_(scene), options_(options), data_(scene_.model), solver_(0) {
+  const int nv = scene_.model.nv();
+  const int nc = static_cast<int>(scene_.contacts.size());
+  const int nl = static_cast<int>(scene_.limits.size());
+  if (!(options_.dt > 0)) throw std::invalid_argument("time step must be positive");
+  if (options_.theta < 0.5 || options_.theta > 1) throw std::invalid_argument("theta must lie in [0.5, 1]");
+  int f_max = 0, lambda_max = 0;
+  for (const Contact& c : scene_.contacts) {
+    f_max += c.directions;
+    lambda_max += c.directions > 0;
+  }
+  const int m_max = nc + nl;
+  const int nz_max = m_max + f_max + lambda_max;
+  q_ = scene_.q0;
+  v_ = scene_.v0;
+  q_theta_.resize(nv);
+  v_theta_.resize(nv);
+  v_free_.resize(nv);
+  rhs_.resize(nv);
+  tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
+  for (const Surface& s : scene_.surfaces) tangents_.push_back(makeTangentBasis(s.normal));
+  J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
+  active_.reserve(m_max);
+  active_gap_.reserve(m_max);
+  active_e_.reserve(m_max);
+  N_.resize(m_max, nv);
+  D_.resize(f_max, nv);
+  MinvNt_.resize(nv, m_max);
+  MinvDt_.resize(nv, f_max);
+  surface_velocity_.resize(f_max);
+  A_.setZero(nz_max, nz_max);
+  b_.resize(nz_max);
+  z_.resize(nz_max);
+  w_.resize(nz_max);
+  solver_ = LcpSolver(nz_max);
+  reports_.assign(nc + nl, ContactReport{});
+  const double g = scene_.model.gravity.norm();
+  restitution_threshold_ = options_.restitution_threshold >= 0 ? options_.restitution_threshold : 2 * g * options_.dt;
+}
+
+void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
+  q_ = q;
+  v_ = v;
+  t_ = t;
+  stats_ = StepperStats{};
+}
+
+double TimeStepper::energy() {
+  dynamics::forwardKinematics(scene_.model, data_, q_, v_);
+  return dynamics::kineticEnergy(scene_.model, data_) + dynamics::potentialEnergy(scene_.model, data_);
+}
+
+// Active normal rows (contacts, then limit stops) into N_, their friction rows into D_.
+// Needs the kinematics and v_free_ at q_θ.
+void TimeStepper::buildRows(double t_next) {
+  const dynamics::Model<double>& model = scene_.model;
+  const double th_h = options_.theta * options_.dt;
+  active_.clear();
+  active_gap_.clear();
+  active_e_.clear();
+  m_ = f_ = 0;
+  for (int c = 0; c < static_cast<int>(scene_.contacts.size()); ++c) {
+    const Contact& contact = scene_.contacts[c];
+    const Surface& surface = scene_.surfaces[contact.surface];
+    reports_[c].active = false;
+    const double gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
+    dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
+    const double vn_free = surface.normal.dot(J_point_[c] * v_free_);
+    if (gap > options_.contact_margin && gap + th_h * vn_free > options_.contact_margin) continue;
+    const double vn = surface.normal.dot(J_point_[c] * v_);
+    active_.push_back(c);
+    active_gap_.push_back(gap);
+    active_e_.push_back(vn < -restitution_threshold_ ? contact.restitution : 0.0);
+    N_.row(m_++) = surface.normal.transpose() * J_point_[c];
+  }
+  const int nc = static_cast<int>(scene_.contacts.size());
+  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
+    const LimitStop& stop = scene_.limits[l];
+    reports_[nc + l].active = false;
+    const double sign = stop.upper ? -1.0 : 1.0;
+    const double gap = sign * (q_theta_[stop.coordinate] - stop.limit);
+    if (gap > options_.contact_margin && gap + th_h * sign * v_free_[stop.coordinate] > options_.contact_margin)
+      continue;
+    active_.push_back(nc + l);
+    active_gap_.push_back(gap);
+    active_e_.push_back(sign * v_[stop.coordinate] < -restitution_threshold_ ? stop.restitution : 0.0);
+    N_.row(m_).setZero();
+    N_(m_++, stop.coordinate) = sign;
+  }
+  for (int r = 0; r < m_; ++r) {
+    const int c = active_[r];
+    if (c >= nc || scene_.contacts[c].directions == 0) continue;
+    const Contact& contact = scene_.contacts[c];
+    const Eigen::Vector3d v_surface = scene_.surfaces[contact.surface].velocity(t_next);
+    for (int j = 0; j < contact.directions; ++j) {
+      const Eigen::Vector3d d = frictionDirection(tangents_[contact.surface], j, contact.directions);
+      D_.row(f_) = d.transpose() * J_point_[c];
+      surface_velocity_[f_++] = d.dot(v_surface);
+    }
+  }
+}
+
+// Assembles and solves the LCP in z = (p_n, β, λ); throws on failure.
+void TimeStepper::solveLcp(int nz) {
+  const int nc = static_cast<int>(scene_.contacts.size());
+  const int m = m_, f = f_;
+  auto A = A_.topLeftCorner(nz, nz);
+  A.setZero();
+  // Delassus blocks W = [N; D] M⁻¹ [N; D]ᵀ.
+  A.topLeftCorner(m, m).noalias() = N_.topRows(m) * MinvNt_.leftCols(m);
+  if (f > 0) {
+    A.block(0, m, m, f).noalias() = N_.topRows(m) * MinvDt_.leftCols(f);
+    A.block(m, 0, f, m).noalias() = D_.topRows(f) * MinvNt_.leftCols(m);
+    A.block(m, m, f, f).noalias() = D_.topRows(f) * MinvDt_.leftCols(f);
+  }
+  b_.head(m).noalias() = N_.topRows(m) * v_free_;
+  for (int r = 0; r < m; ++r) {
+    if (active_e_[r] > 0)  // + e n·v: Newton's law v_n⁺ ≥ −e v_n⁻ (Moreau's impact law)
+      b_[r] += active_e_[r] * N_.row(r).dot(v_);
+    else if (active_gap_[r] > 0)  // + gap/(θh): an open gap may close within the step
+      b_[r] += active_gap_[r] / (options_.theta * options_.dt);
+  }
+  if (f > 0) b_.segment(m, f).noalias() = D_.topRows(f) * v_free_ - surface_velocity_.head(f);
+  // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
+  int row = m + f, col = m;
+  for (int r = 0; r < m; ++r) {
+    const int c = active_[r];
+    if (c >= nc || scene_.contacts[c].directions == 0) continue;
+    const int k = scene_.contacts[c].directions;
+    for (int j = 0; j < k; ++j) {
+      A(col + j, row) = 1.0;             // β rows: + λ
+      A(row, col + j) = -1.0;            // λ row: − Σ β
+    }
+    A(row, r) = scene_.contacts[c].friction;
+    b_[row] = 0;
+    ++row;
+    col += k;
+  }
+  LcpResult result;
+  auto z = z_.head(nz);
+  auto w = w_.head(nz);
+  if (options_.solver == LcpMethod::Lemke) {
+    result = solver_.solveLemke(A, b_.head(nz), z, w);
+  } else {
+    z.setZero();
+    result = solver_.solvePgs(A, b_.head(nz), z, w, options_.pgs_iterations, options_.pgs_tolerance);
+  }
+  ++stats_.lcp_solves;
+  stats_.max_lcp_size = std::max(stats_.max_lcp_size, nz);
+  stats_.max_lcp_residual = std::max(stats_.max_lcp_residual, result.residual);
+  if (result.status != LcpStatus::Solved) {
+    ++stats_.lcp_failures;
+    std::ostringstream msg;
+    msg << "LCP solver (" << (options_.solver == LcpMethod::Lemke ? "lemke" : "pgs") << ") failed at t = " << t_
+        << " s: " << toString(result.status) << " after " << result.iterations << " iterations, residual "
+        << result.residual << ", LCP size " << nz << ", active contacts:";
+    for (const std::string& name : activeNames()) msg << " " << name;
+    throw SimulationError(msg.str(), t_, activeNames(), result.residual);
+  }
+}
+
+std::vector<std::string> TimeStepper::activeNames() const {
+  std::vector<std::string> names;
+  const int nc = static_cast<int>(scene_.contacts.size());
+  for (int c : active_) names.push_back(c < nc ? scene_.contacts[c].name : scene_.limits[c - nc].name);
+  return names;
+}
+
+// Removes penetration beyond the tolerance by the smallest change of q in the metric M:
+// min ½ Δqᵀ M Δq subject to gap + N Δq ≥ 0, i.e. the LCP (N M⁻¹ Nᵀ, gap) with Δq = M⁻¹ Nᵀ p.
+// Velocities are left as they are.
+void TimeStepper::project() {
+  const dynamics::Model<double>& model = scene_.model;
+  const int nc = static_cast<int>(scene_.contacts.size());
+  m_ = 0;
+  active_.clear();
+  for (int c = 0; c < nc; ++c) {
+    const Contact& contact = scene_.contacts[c];
+    if (reports_[c].gap >= -options_.penetration_tolerance) continue;
+    dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
+    N_.row(m_) = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
+    b_[m_++] = reports_[c].gap;
+    active_.push_back(c);
+  }
+  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
+    if (reports_[nc + l].gap >= -options_.penetration_tolerance) continue;
+    const LimitStop& stop = scene_.limits[l];
+    N_.row(m_).setZero();
+    N_(m_, stop.coordinate) = stop.upper ? -1.0 : 1.0;
+    b_[m_++] = reports_[nc + l].gap;
+    active_.push_back(nc + l);
+  }
+  if (m_ == 0) return;
+  MinvNt_.leftCols(m_) = N_.topRows(m_).transpose();
+  llt_.solveInPlace(MinvNt_.leftCols(m_));
+  auto A = A_.topLeftCorner(m_, m_);
+  A.noalias() = N_.topRows(m_) * MinvNt_.leftCols(m_);
+  auto z = z_.head(m_);
+  auto w = w_.head(m_);
+  const LcpResult result = solver_.solveLemke(A, b_.head(m_), z, w);
+  if (result.status != LcpStatus::Solved) {
+    ++stats_.lcp_failures;
+    throw SimulationError("position projection LCP failed at t = " + std::to_string(t_) + " s: " +
+                              toString(result.status) + ", residual " + std::to_string(result.residual),
+                          t_, activeNames(), result.residual);
+  }
+  q_.noalias() += MinvNt_.leftCols(m_) * z;
+}
+
+void TimeStepper::step() {
+  const dynamics::Model<double>& model = scene_.model;
+  const double h = options_.dt, theta = options_.theta;
+  const int nc = static_cast<int>(scene_.contacts.size());
+  // Linearise at q_θ: M, bias forces and kinematics.
+  q_theta_ = q_ + (1 - theta) * h * v_;
+  dynamics::crba(model, data_, q_theta_);  // also fills the world poses used below
+  llt_.compute(data_.M);
+  if (llt_.info() != Eigen::Success)
+    throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);
+  rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_);
+  llt_.solveInPlace(rhs_);
+  if (theta < 1) {  // forces at the predicted v_θ
+    v_theta_ = v_ + (1 - theta) * h * rhs_;
+    rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_theta_);
+    llt_.solveInPlace(rhs_);
+  }
+  v_free_ = v_ + h * rhs_;
+  buildRows(t_ + h);
+
+  Eigen::VectorXd& v_next = rhs_;  // reuse storage: v⁺
+  v_next = v_free_;
+  for (ContactReport& r : reports_) r.pn = r.pt1 = r.pt2 = 0;
+  if (m_ > 0) {
+    MinvNt_.leftCols(m_) = N_.topRows(m_).transpose();
+    llt_.solveInPlace(MinvNt_.leftCols(m_));
+    if (f_ > 0) {
+      MinvDt_.leftCols(f_) = D_.topRows(f_).transpose();
+      llt_.solveInPlace(MinvDt_.leftCols(f_));
+    }
+    int n_lambda = 0;
+    for (int r = 0; r < m_; ++r) n_lambda += active_[r] < nc && scene_.contacts[active_[r]].directions > 0;
+    solveLcp(m_ + f_ + n_lambda);
+    v_next.noalias() += MinvNt_.leftCols(m_) * z_.head(m_);
+    if (f_ > 0) v_next.noalias() += MinvDt_.leftCols(f_) * z_.segment(m_, f_);
+    // Impulses per contact, tangential ones in the surface basis.
+    int fr = m_;
+    for (int r = 0; r < m_; ++r) {
+      const int c = active_[r];
+      reports_[c].active = true;
+      reports_[c].pn = z_[r];
+      if (c >= nc) continue;
+      const Contact& contact = scene_.contacts[c];
+      Eigen::Vector3d pt = Eigen::Vector3d::Zero();
+      for (int j = 0; j < contact.directions; ++j)
+        pt += z_[fr++] * frictionDirection(tangents_[contact.surface], j, contact.directions);
+      reports_[c].pt1 = pt.dot(tangents_[contact.surface].col(0));
+      reports_[c].pt2 = pt.dot(tangents_[contact.surface].col(1));
+    }
+  }
+  v_ = v_next;
+  q_ = q_theta_ + theta * h * v_;
+  t_ += h;
+  ++stats_.steps;
+  if (!q_.allFinite() || !v_.allFinite())
+    throw SimulationError("state is not finite at t = " + std::to_string(t_) + " s", t_, activeNames(), 0);
+
+  // Gaps and relative velocities at the end of the step; then remove drift.
+  dynamics::forwardKinematics(model, data_, q_, v_);
+  bool penetrating = false;
+  for (int c = 0; c < nc; ++c) {
+    const Contact& contact = scene_.contacts[c];
+    const Surface& surface = scene_.surfaces[contact.surface];
+    ContactReport& r = reports_[c];
+    r.gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
+    const Eigen::Vector3d v_rel = dynamics::pointVelocity(data_, contact.body, contact.p_B) - surface.velocity(t_);
+    r.vn = surface.normal.dot(v_rel);
+    r.vt1 = tangents_[contact.surface].col(0).dot(v_rel);
+    r.vt2 = tangents_[contact.surface].col(1).dot(v_rel);
+    penetrating |= r.gap < -options_.penetration_tolerance;
+    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+  }
+  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
+    const LimitStop& stop = scene_.limits[l];
+    const double sign = stop.upper ? -1.0 : 1.0;
+    ContactReport& r = reports_[nc + l];
+    r.gap = sign * (q_[stop.coordinate] - stop.limit);
+    r.vn = sign * v_[stop.coordinate];
+    penetrating |= r.gap < -options_.penetration_tolerance;
+    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+  }
+  if (penetrating) {
+    project();
+    dynamics::forwardKinematics(model, data_, q_);
+    for (int c = 0; c < nc; ++c) {
+      const Contact& contact = scene_.contacts[c];
+      reports_[c].gap = scene_.surfaces[contact.surface].gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
+    }
+    for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
+      const LimitStop& stop = scene_.limits[l];
+      reports_[nc + l].gap = (stop.upper ? -1.0 : 1.0) * (q_[stop.coordinate] - stop.limit);
+    }
+  }
+}
+
+}  // namespace saltus::timestepper

@@ -1,0 +1,141 @@
+// Moreau–Stewart–Trinkle time-stepping: each step solves one velocity-level linear
+// complementarity problem for the contact impulses (D. E. Stewart & J. C. Trinkle, IJNME 39,
+// 1996; M. Anitescu & F. A. Potra, Nonlinear Dynamics 14, 1997; V. Acary & B. Brogliato,
+// "Numerical methods for nonsmooth dynamical systems", 2008, ch. 10 (Moreau–Jean)).
+//
+// One step of size h from (t, q, v), with θ ∈ [½, 1]:
+//   q_θ  = q + (1 − θ) h v                      positions where the step is linearised
+//   v*   = v + h M(q_θ)⁻¹ (τ − C(q_θ, v) v − g(q_θ))   free velocity
+//   M (v⁺ − v*) = N ᵀ p_n + Dᵀ β                 impulses of the active contacts
+//   q⁺   = q_θ + θ h v⁺
+// θ = 1 is the Stewart–Trinkle / Anitescu–Potra scheme (first order, dissipative); θ = ½ is
+// Moreau's midpoint scheme (second order on smooth phases, conserves energy in free flight).
+//
+// Forces are evaluated at (q_θ, v_θ) with the predictor v_θ = v + (1 − θ) h M⁻¹(τ − h(q_θ, v)),
+// so the midpoint scheme is second order on smooth phases also with velocity-dependent forces.
+//
+// Active set: contact i takes part in the step when its gap at q_θ is ≤ contact_margin or its
+// predicted gap at the end of the free step, gap(q_θ) + θ h n·v*, is ≤ contact_margin.
+// Joint-limit stops likewise.
+//
+// Complementarity, for each active contact (normal row n_i of N, friction rows d_ij of D):
+//   0 ≤ p_n,i ⊥ n_i v⁺ + e_i n_i v ≥ 0          Newton restitution at velocity level (Moreau);
+//                                                e_i = 0 when the approach speed is below
+//                                                restitution_threshold (resting contacts)
+//   0 ≤ p_n,i ⊥ n_i v⁺ + gap⁺_i / (θ h) ≥ 0      for e_i = 0: an open gap may close within the
+//                                                step (Stewart–Trinkle), gap⁺ = max(gap, 0), so
+//                                                a penetration is never pushed out by velocity
+//   0 ≤ β_ij  ⊥ d_ij (v⁺ − v_surface(t + h)) + λ_i ≥ 0   polyhedral cone, k directions
+//   0 ≤ λ_i   ⊥ μ_i p_n,i − Σ_j β_ij ≥ 0        λ_i: the sliding speed
+// The surface velocity enters the relative tangential velocity, so a belt that steps in speed
+// can be matched by a tangential impulse alone: an impact without collision (the resolution of
+// Painlevé's paradox, paper §II.A).
+//
+// Drift: velocities only ever satisfy the linearised constraints, so positions can drift into a
+// surface along curved paths. After each step any gap below −penetration_tolerance is removed by
+// the smallest mass-weighted change of q (Cline & Pai's post-stabilisation): an LCP on
+// N M⁻¹ Nᵀ that moves positions only, so no kinetic energy is injected.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "dynamics/data.hpp"
+#include "timestepper/lcp.hpp"
+#include "timestepper/scene.hpp"
+
+namespace saltus::timestepper {
+
+enum class LcpMethod { Lemke, Pgs };
+
+struct StepperOptions {
+  double dt = 1e-3;
+  double theta = 1.0;                     // ½ (Moreau midpoint) … 1 (Stewart–Trinkle)
+  LcpMethod solver = LcpMethod::Lemke;
+  double restitution_threshold = -1;      // [m/s]; < 0: 2 |g| dt (one step of free fall)
+  double penetration_tolerance = 1e-9;    // [m] gaps below −this are projected out
+  double contact_margin = 1e-6;           // [m] activation distance (see the active-set rule)
+  int pgs_iterations = 500;
+  double pgs_tolerance = 1e-12;
+};
+
+// A solver failure or a non-finite state: says when, which contacts were active and how far the
+// LCP solution was from complementarity.
+class SimulationError : public std::runtime_error {
+ public:
+  SimulationError(const std::string& what, double time, std::vector<std::string> active, double residual)
+      : std::runtime_error(what), time(time), active(std::move(active)), residual(residual) {}
+  double time;
+  std::vector<std::string> active;
+  double residual;
+};
+
+// What a contact did over the last step (gap and velocities at the end of the step; impulses
+// over the step). Tangential quantities are in the surface's basis (t1, t2).
+struct ContactReport {
+  bool active = false;
+  double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
+};
+
+struct StepperStats {
+  long steps = 0;
+  long lcp_solves = 0;
+  long lcp_failures = 0;
+  int max_lcp_size = 0;
+  double max_penetration = 0;  // largest −gap seen after a step (before projection) [m]
+  double max_lcp_residual = 0;
+};
+
+class TimeStepper {
+ public:
+  TimeStepper(const Scene& scene, StepperOptions options);
+
+  void reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t = 0);
+  // Advances by one step; throws SimulationError when the LCP solver fails or the state stops
+  // being finite.
+  void step();
+
+  double time() const { return t_; }
+  const Eigen::VectorXd& q() const { return q_; }
+  const Eigen::VectorXd& v() const { return v_; }
+  const Scene& scene() const { return scene_; }
+  const StepperOptions& options() const { return options_; }
+  const std::vector<ContactReport>& contacts() const { return reports_; }  // scene contacts, then limits
+  const StepperStats& stats() const { return stats_; }
+  // Kinetic plus gravitational potential energy of the current state.
+  double energy();
+  // Tangent basis (t1, t2) used for a surface's contacts.
+  const Eigen::Matrix<double, 3, 2>& tangentBasis(int surface) const { return tangents_[surface]; }
+
+ private:
+  void buildRows(double t_next);
+  void solveLcp(int nz);
+  void project();
+  std::vector<std::string> activeNames() const;
+
+  Scene scene_;
+  StepperOptions options_;
+  dynamics::Data<double> data_;
+  double t_ = 0;
+  Eigen::VectorXd q_, v_, q_theta_, v_theta_, v_free_, rhs_, tau_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  std::vector<Eigen::Matrix<double, 3, 2>> tangents_;
+  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per contact, 3 × nv
+  // Active rows: normal rows first (contacts then limits), then the friction rows.
+  std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
+  std::vector<double> active_gap_, active_e_;
+  Eigen::MatrixXd N_, D_, MinvNt_, MinvDt_;  // m × nv, f × nv and their M⁻¹ (·)ᵀ
+  Eigen::VectorXd surface_velocity_;         // d_ij · v_surface for each friction row
+  Eigen::MatrixXd A_;                        // LCP matrix
+  Eigen::VectorXd b_, z_, w_;                // LCP vector and solution
+  LcpSolver solver_;
+  int m_ = 0, f_ = 0;                        // active normal rows, friction rows
+  std::vector<ContactReport> reports_;
+  StepperStats stats_;
+  double restitution_threshold_;
+};
+
+}  // namespace saltus::timestepper
