@@ -77,7 +77,7 @@ double lcpResidual(const ConstMatrixRef& M, const ConstVectorRef& q, const Const
 LcpSolver::LcpSolver(int capacity) : capacity_(capacity) {
   if (capacity < 0) throw std::invalid_argument("LcpSolver: negative capacity");
   basis_inverse_.resize(capacity, capacity);
-  for (Eigen::VectorXd* v : {&basic_value_, &entering_column_, &column_scale_, &value_scale_, &pivot_row_, &pgs_diagonal_})
+  for (Eigen::VectorXd* v : {&basic_value_, &entering_column_, &column_scale_, &value_scale_, &pivot_row_, &ratio_, &pgs_diagonal_})
     v->resize(capacity);
   basic_variable_.resize(capacity);
   tied_rows_.resize(capacity);
@@ -114,6 +114,7 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   auto column_scale = column_scale_.head(n);
   auto value_scale = value_scale_.head(n);
   auto pivot_row = pivot_row_.head(n);
+  auto ratio = ratio_.head(n);
   Binv.setIdentity();
   x = q;
   for (int i = 0; i < n; ++i) basic_variable_[i] = i;
@@ -123,9 +124,12 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   const auto pivot = [&](int r) {
     const double inverse = 1.0 / a[r];
     for (int k = 0; k < n; ++k) pivot_row[k] = Binv(r, k) * inverse;
+    const double* const a_data = a.data();
     for (int k = 0; k < n; ++k) {
-      Binv.col(k) -= pivot_row[k] * a;
-      Binv(r, k) = pivot_row[k];
+      double* const b = &Binv.coeffRef(0, k);
+      const double t = pivot_row[k];
+      for (int i = 0; i < n; ++i) b[i] -= t * a_data[i];
+      b[r] = t;
     }
     const double x_r = x[r] * inverse;
     x -= x_r * a;
@@ -171,24 +175,17 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   // x_i / a_i; ties go to z0 (which ends the method) or else to the lexicographically smallest
   // row of B⁻¹ / a_i. Returns −1 when no a_i is positive: a secondary ray.
   const auto ratioTest = [&]() {
-    int best = -1;
-    double best_ratio = kInfinity, best_noise = 0;
-    for (int i = 0; i < n; ++i) {
-      if (!(a[i] > kPivotTolerance * column_scale[i])) continue;
-      const double ratio = std::max(x[i], 0.0) / a[i];
-      if (ratio < best_ratio) {
-        best = i;
-        best_ratio = ratio;
-        best_noise = (value_scale[i] + ratio * column_scale[i]) / a[i];
-      }
-    }
-    if (best < 0) return -1;
+    for (int i = 0; i < n; ++i)
+      ratio[i] = a[i] > kPivotTolerance * column_scale[i] ? std::max(x[i], 0.0) / a[i] : kInfinity;
+    int best;
+    const double best_ratio = ratio.minCoeff(&best);
+    if (best_ratio == kInfinity) return -1;
+    const double best_noise = (value_scale[best] + best_ratio * column_scale[best]) / a[best];
     int tied = 0;
     for (int i = 0; i < n; ++i) {
-      if (!(a[i] > kPivotTolerance * column_scale[i])) continue;
-      const double ratio = std::max(x[i], 0.0) / a[i];
-      const double noise = (value_scale[i] + ratio * column_scale[i]) / a[i];
-      if (ratio <= best_ratio + kTieTolerance * (noise + best_noise)) {
+      if (ratio[i] == kInfinity) continue;
+      const double noise = (value_scale[i] + ratio[i] * column_scale[i]) / a[i];
+      if (ratio[i] <= best_ratio + kTieTolerance * (noise + best_noise)) {
         if (basic_variable_[i] == z0) return i;
         tied_rows_[tied++] = i;
       }

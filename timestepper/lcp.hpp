@@ -84,11 +84,11 @@ class LcpSolver {
 
   int capacity_;
   // Lemke: basis inverse B⁻¹ of the system I w − M z − d z0 = q, values of the basic variables
-  // x_B = B⁻¹ q, the entering column B⁻¹ a_s and two round-off scales per row (Σ_k |B⁻¹_ik a_k|
-  // and Σ_k |B⁻¹_ik q_k|), the pivot row, the label of each row's basic variable
-  // (w_j = j, z_j = n + j, z0 = 2n) and the rows tied in the ratio test.
+  // x_B = B⁻¹ q, the entering column B⁻¹ a_s and two round-off scales per row (Σ_k |B⁻¹_ik a_sk|
+  // and Σ_k |B⁻¹_ik q_k|), the pivot row, the ratios x_i / a_i, the label of each row's basic
+  // variable (w_j = j, z_j = n + j, z0 = 2n) and the rows tied in the ratio test.
   Eigen::MatrixXd basis_inverse_;
-  Eigen::VectorXd basic_value_, entering_column_, column_scale_, value_scale_, pivot_row_;
+  Eigen::VectorXd basic_value_, entering_column_, column_scale_, value_scale_, pivot_row_, ratio_;
   std::vector<int> basic_variable_, tied_rows_;
   // PGS: the diagonal d_i each row divides by.
   Eigen::VectorXd pgs_diagonal_;

@@ -3,11 +3,13 @@
 #include <muParser.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/LU>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <initializer_list>
+#include <iterator>
 #include <numbers>
 #include <set>
 #include <sstream>

@@ -68,6 +68,8 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   w_.resize(nz_max);
   solver_ = LcpSolver(nz_max);
   reports_.assign(nc + nl, ContactReport{});
+  measureContacts();
+  stats_.max_penetration = 0;
   const double g = scene_.model.gravity.norm();
   restitution_threshold_ = options_.restitution_threshold >= 0 ? options_.restitution_threshold : 2 * g * options_.dt;
 }
@@ -76,6 +78,8 @@ void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   q_ = q;
   v_ = v;
   t_ = t;
+  for (ContactReport& r : reports_) r = ContactReport{};
+  measureContacts();
   stats_ = StepperStats{};
 }
 
@@ -241,6 +245,37 @@ void TimeStepper::project() {
   q_.noalias() += MinvNt_.leftCols(m_) * z;
 }
 
+// Gaps and relative velocities of every contact and stop at the current state; returns whether
+// any gap is below −penetration_tolerance.
+bool TimeStepper::measureContacts() {
+  const dynamics::Model<double>& model = scene_.model;
+  const int nc = static_cast<int>(scene_.contacts.size());
+  dynamics::forwardKinematics(model, data_, q_, v_);
+  bool penetrating = false;
+  for (int c = 0; c < nc; ++c) {
+    const Contact& contact = scene_.contacts[c];
+    const Surface& surface = scene_.surfaces[contact.surface];
+    ContactReport& r = reports_[c];
+    r.gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
+    const Eigen::Vector3d v_rel = dynamics::pointVelocity(data_, contact.body, contact.p_B) - surface.velocity(t_);
+    r.vn = surface.normal.dot(v_rel);
+    r.vt1 = tangents_[contact.surface].col(0).dot(v_rel);
+    r.vt2 = tangents_[contact.surface].col(1).dot(v_rel);
+    penetrating |= r.gap < -options_.penetration_tolerance;
+    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+  }
+  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
+    const LimitStop& stop = scene_.limits[l];
+    const double sign = stop.upper ? -1.0 : 1.0;
+    ContactReport& r = reports_[nc + l];
+    r.gap = sign * (q_[stop.coordinate] - stop.limit);
+    r.vn = sign * v_[stop.coordinate];
+    penetrating |= r.gap < -options_.penetration_tolerance;
+    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+  }
+  return penetrating;
+}
+
 void TimeStepper::step() {
   const dynamics::Model<double>& model = scene_.model;
   const double h = options_.dt, theta = options_.theta;
@@ -299,29 +334,7 @@ void TimeStepper::step() {
     throw SimulationError("state is not finite at t = " + std::to_string(t_) + " s", t_, activeNames(), 0);
 
   // Gaps and relative velocities at the end of the step; then remove drift.
-  dynamics::forwardKinematics(model, data_, q_, v_);
-  bool penetrating = false;
-  for (int c = 0; c < nc; ++c) {
-    const Contact& contact = scene_.contacts[c];
-    const Surface& surface = scene_.surfaces[contact.surface];
-    ContactReport& r = reports_[c];
-    r.gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
-    const Eigen::Vector3d v_rel = dynamics::pointVelocity(data_, contact.body, contact.p_B) - surface.velocity(t_);
-    r.vn = surface.normal.dot(v_rel);
-    r.vt1 = tangents_[contact.surface].col(0).dot(v_rel);
-    r.vt2 = tangents_[contact.surface].col(1).dot(v_rel);
-    penetrating |= r.gap < -options_.penetration_tolerance;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
-  }
-  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
-    const LimitStop& stop = scene_.limits[l];
-    const double sign = stop.upper ? -1.0 : 1.0;
-    ContactReport& r = reports_[nc + l];
-    r.gap = sign * (q_[stop.coordinate] - stop.limit);
-    r.vn = sign * v_[stop.coordinate];
-    penetrating |= r.gap < -options_.penetration_tolerance;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
-  }
+  const bool penetrating = measureContacts();
   if (penetrating) {
     project();
     dynamics::forwardKinematics(model, data_, q_);

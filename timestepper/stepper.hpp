@@ -114,6 +114,7 @@ class TimeStepper {
   void buildRows(double t_next);
   void solveLcp(int nz);
   void project();
+  bool measureContacts();
   std::vector<std::string> activeNames() const;
 
   Scene scene_;

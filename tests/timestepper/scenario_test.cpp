@@ -1,0 +1,472 @@
+// Scenario files (timestepper/scenario.hpp): the built-in scenes against forward kinematics and
+// their parameters, --set overrides, defaults, joint-limit stops, and one test per kind of bad
+// input (tests/data/scenes/), each checking that the message names the file, the line and the
+// key path.
+#include "timestepper/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <numbers>
+
+#include "dynamics/data.hpp"
+#include "dynamics/kinematics.hpp"
+
+namespace saltus::timestepper {
+namespace {
+
+const std::string kSceneDir = std::string(SALTUS_SOURCE_DIR) + "/models/scenes/";
+const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/scenes/";
+constexpr double kPi = std::numbers::pi;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no ScenarioError thrown";
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// World position of contact i at configuration q, and its gap to its surface.
+Eigen::Vector3d contactPosition(const Scene& s, int i, const Eigen::VectorXd& q) {
+  dynamics::Data<double> data(s.model);
+  dynamics::forwardKinematics(s.model, data, q);
+  return dynamics::pointPosition(data, s.contacts[i].body, Eigen::Vector3d(s.contacts[i].p_B));
+}
+double gap(const Scene& s, int i, const Eigen::VectorXd& q) {
+  return s.surfaces[s.contacts[i].surface].gap(contactPosition(s, i, q));
+}
+// World position of a frame (URDF link) at q.
+Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Eigen::VectorXd& q) {
+  const int f = s.model.frameIndex(frame);
+  EXPECT_GE(f, 0) << frame;
+  dynamics::Data<double> data(s.model);
+  dynamics::forwardKinematics(s.model, data, q);
+  return dynamics::pointPosition(data, s.model.frames[f].body, Eigen::Vector3d(s.model.frames[f].p_BF));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in scenes
+
+TEST(Scenario, BuiltinNames) {
+  EXPECT_EQ(builtinSceneNames(),
+            (std::vector<std::string>{"ball_drop", "block_slide", "painleve_rod", "pendulum_conveyor"}));
+}
+
+TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
+  const std::map<std::string, std::pair<int, int>> expected = {
+      {"ball_drop", {1, 1}}, {"block_slide", {2, 1}}, {"pendulum_conveyor", {2, 1}}, {"painleve_rod", {3, 1}}};
+  for (const std::string& name : builtinSceneNames()) {
+    SCOPED_TRACE(name);
+    const Scene s = loadScene(name);
+    ASSERT_TRUE(expected.count(name));
+    EXPECT_EQ(s.name, name);
+    EXPECT_EQ(s.source, "builtin:" + name);
+    EXPECT_FALSE(s.description.empty());
+    EXPECT_EQ(s.model.nv(), expected.at(name).first);
+    EXPECT_EQ(static_cast<int>(s.contacts.size()), expected.at(name).second);
+    EXPECT_EQ(s.q0.size(), s.model.nv());
+    EXPECT_EQ(s.v0.size(), s.model.nv());
+    EXPECT_EQ(s.tau.size(), s.model.nv());
+    EXPECT_TRUE(s.tau.isZero());
+    EXPECT_TRUE(s.limits.empty());
+    EXPECT_GT(s.duration, 0);
+    EXPECT_FALSE(s.model.visuals.empty());
+    for (const Surface& surf : s.surfaces) EXPECT_NEAR(surf.normal.norm(), 1.0, 1e-15);
+  }
+}
+
+TEST(Scenario, LoadByPathKeepsThePathAsSource) {
+  const Scene s = loadScene(kSceneDir + "ball_drop.yaml");
+  EXPECT_EQ(s.source, kSceneDir + "ball_drop.yaml");
+  EXPECT_EQ(s.name, "ball_drop");
+}
+
+TEST(Scenario, BallDrop) {
+  const Scene s = loadScene("ball_drop");
+  ASSERT_EQ(s.model.nv(), 1);
+  EXPECT_EQ(s.model.coordinate_name[0], "z");
+  EXPECT_DOUBLE_EQ(s.model.totalMass(), 1.0);
+  EXPECT_EQ(s.model.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_DOUBLE_EQ(gap(s, 0, s.q0), 1.0);
+  EXPECT_TRUE(s.v0.isZero());
+  EXPECT_DOUBLE_EQ(s.contacts[0].restitution, 0.5);
+  EXPECT_EQ(s.contacts[0].friction, 0.0);
+  EXPECT_EQ(s.contacts[0].directions, 0);
+  EXPECT_EQ(s.parameters, (std::map<std::string, double>{{"height", 1.0}, {"restitution", 0.5}}));
+  // Moving the coordinate moves the contact point along z one for one.
+  EXPECT_DOUBLE_EQ(gap(s, 0, Eigen::VectorXd::Constant(1, 0.25)), 0.25);
+}
+
+TEST(Scenario, OverridesChangeTheValues) {
+  const Scene s = loadScene("ball_drop", {{"height", 2.0}, {"restitution", 0.8}});
+  EXPECT_DOUBLE_EQ(gap(s, 0, s.q0), 2.0);
+  EXPECT_DOUBLE_EQ(s.contacts[0].restitution, 0.8);
+  EXPECT_DOUBLE_EQ(s.parameters.at("height"), 2.0);
+  EXPECT_DOUBLE_EQ(s.parameters.at("restitution"), 0.8);
+  // Through the parser, as from the command line.
+  const Scene t = loadScene("ball_drop", parseOverrides({"height=3.5"}));
+  EXPECT_DOUBLE_EQ(gap(t, 0, t.q0), 3.5);
+}
+
+TEST(Scenario, OverrideOutsideTheValidRangeIsCaughtWhereTheParameterIsUsed) {
+  const std::string what = errorOf([] { loadScene("ball_drop", {{"restitution", 1.5}}); });
+  EXPECT_TRUE(contains(what, "ball_drop.yaml:")) << what;
+  EXPECT_TRUE(contains(what, "contacts[0].restitution")) << what;
+  EXPECT_TRUE(contains(what, "[0, 1]")) << what;
+}
+
+TEST(Scenario, UnknownOverrideListsTheParameters) {
+  const std::string what = errorOf([] { loadScene("ball_drop", {{"heigth", 2.0}}); });
+  // The message points at the scene's `parameters:` map.
+  std::ifstream in(kSceneDir + "ball_drop.yaml");
+  std::string line;
+  int n = 0, params_line = -1;
+  while (std::getline(in, line) && params_line < 0)
+    if (++n, line.rfind("parameters:", 0) == 0) params_line = n;
+  ASSERT_GT(params_line, 0);
+  EXPECT_TRUE(contains(what, kSceneDir + "ball_drop.yaml:" + std::to_string(params_line) + ":")) << what;
+  EXPECT_TRUE(contains(what, "parameters: ")) << what;
+  EXPECT_TRUE(contains(what, "heigth")) << what;
+  EXPECT_TRUE(contains(what, "height, restitution")) << what;
+  EXPECT_TRUE(contains(what, "did you mean 'height'")) << what;
+}
+
+TEST(Scenario, BlockSlide) {
+  const double incline = 0.3, g = 9.81;
+  const Scene s = loadScene("block_slide", {{"incline", incline}});
+  ASSERT_EQ(s.model.nv(), 2);
+  EXPECT_EQ(s.model.coordinate_name, (std::vector<std::string>{"s", "n"}));
+  EXPECT_NEAR((s.model.gravity - Eigen::Vector3d(g * std::sin(incline), 0, -g * std::cos(incline))).norm(), 0, 1e-15);
+  EXPECT_DOUBLE_EQ(gap(s, 0, s.q0), 0.0);
+  EXPECT_EQ(s.v0, Eigen::Vector2d(2.0, 0.0));
+  EXPECT_DOUBLE_EQ(s.contacts[0].friction, 0.3);
+  EXPECT_EQ(s.contacts[0].directions, 2);
+  EXPECT_DOUBLE_EQ(s.model.totalMass(), 1.0);
+  // s moves along the slope, n off it.
+  EXPECT_DOUBLE_EQ(gap(s, 0, Eigen::Vector2d(1.0, 0.0)), 0.0);
+  EXPECT_DOUBLE_EQ(gap(s, 0, Eigen::Vector2d(0.0, 0.5)), 0.5);
+  // Level by default.
+  const Scene level = loadScene("block_slide");
+  EXPECT_EQ(level.model.gravity, Eigen::Vector3d(0, 0, -9.81));
+}
+
+TEST(Scenario, PendulumConveyorTipRestsOnTheBelt) {
+  const Scene s = loadScene("pendulum_conveyor");
+  ASSERT_EQ(s.model.nv(), 2);
+  EXPECT_EQ(s.model.base, dynamics::BaseType::Fixed);
+  EXPECT_EQ(s.q0, Eigen::Vector2d(0, kPi / 4));
+  EXPECT_TRUE(s.v0.isZero());
+  const Contact& c = s.contacts[0];
+  EXPECT_EQ(c.link, "tip");
+  EXPECT_EQ(c.restitution, 0.0);
+  EXPECT_DOUBLE_EQ(c.friction, 2.0);
+  EXPECT_EQ(c.directions, 2);
+  // Forward kinematics: the tip is at (−0.5 sin θ2, 0, −0.5 − 0.5 cos θ2), on the belt.
+  const Eigen::Vector3d tip = framePosition(s, "tip", s.q0);
+  EXPECT_NEAR((tip - Eigen::Vector3d(-0.5 * std::sin(kPi / 4), 0, -0.5 - 0.5 * std::cos(kPi / 4))).norm(), 0, 1e-12);
+  EXPECT_NEAR((contactPosition(s, 0, s.q0) - tip).norm(), 0, 1e-15);
+  EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-12);
+  EXPECT_EQ(s.surfaces[0].normal, Eigen::Vector3d::UnitZ());
+}
+
+TEST(Scenario, PendulumConveyorBeltSchedule) {
+  const Scene s = loadScene("pendulum_conveyor");
+  const Surface& belt = s.surfaces[s.contacts[0].surface];
+  EXPECT_EQ(belt.velocity(0.0), Eigen::Vector3d::Zero());
+  EXPECT_EQ(belt.velocity(0.0999), Eigen::Vector3d::Zero());
+  EXPECT_EQ(belt.velocity(0.1), Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_EQ(belt.velocity(10.0), Eigen::Vector3d(0.5, 0, 0));
+  // The belt drags the tip toward the point below the elbow (the paradoxical direction).
+  const Eigen::Vector3d tip = framePosition(s, "tip", s.q0), elbow = framePosition(s, "link2", s.q0);
+  EXPECT_GT(belt.velocity(1.0).x() * (elbow.x() - tip.x()), 0);
+
+  const Scene t = loadScene("pendulum_conveyor", {{"belt_speed", 1.5}, {"belt_step_time", 0.25}});
+  const Surface& b2 = t.surfaces[0];
+  EXPECT_EQ(b2.velocity(0.2), Eigen::Vector3d::Zero());
+  EXPECT_EQ(b2.velocity(0.25), Eigen::Vector3d(1.5, 0, 0));
+}
+
+TEST(Scenario, PendulumConveyorBeltFollowsTheInitialAngles) {
+  const Scene s = loadScene("pendulum_conveyor", {{"theta1_0", 0.2}, {"theta2_0", 0.6}});
+  EXPECT_EQ(s.q0, Eigen::Vector2d(0.2, 0.6));
+  EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-12);
+}
+
+TEST(Scenario, PainleveRod) {
+  const Scene s = loadScene("painleve_rod");
+  ASSERT_EQ(s.model.nv(), 3);
+  EXPECT_EQ(s.model.base, dynamics::BaseType::Planar);
+  EXPECT_EQ(s.model.coordinate_name, (std::vector<std::string>{"base_x", "base_z", "base_theta"}));
+  const double angle = std::atan(2.0), l = 0.5, m = 1.0, mu = 2.0;
+  EXPECT_NEAR(s.q0[2], angle, 1e-15);
+  EXPECT_NEAR(s.q0[1], l * std::sin(angle), 1e-15);
+  EXPECT_EQ(s.v0, Eigen::Vector3d(1.0, 0, 0));
+  EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-15);
+  // The contact end is ahead of the centre along +x (it leads) and below it.
+  const Eigen::Vector3d end = contactPosition(s, 0, s.q0);
+  EXPECT_NEAR(end.x(), l * std::cos(angle), 1e-15);
+  EXPECT_EQ(s.contacts[0].p_B, Eigen::Vector3d(l, 0, 0));
+  EXPECT_EQ(s.contacts[0].directions, 2);
+  EXPECT_DOUBLE_EQ(s.contacts[0].friction, mu);
+  // Uniform rod: I about the centre = m (2l)²/12 = m l²/3 across the rod, small along it.
+  const dynamics::RigidInertia<double>& I = s.model.inertia[2];
+  EXPECT_DOUBLE_EQ(I.m, m);
+  EXPECT_TRUE(I.h.isZero());
+  EXPECT_NEAR(I.I(1, 1), m * l * l / 3, 1e-15);
+  EXPECT_NEAR(I.I(2, 2), m * l * l / 3, 1e-15);
+  EXPECT_GT(I.I(0, 0), 0);
+  EXPECT_LT(I.I(0, 0), 1e-3 * I.I(1, 1));
+  // Painlevé: friction above (1 + 3cos²θ)/(3 sinθ cosθ) = 4/3 at tan θ = 2.
+  const double c = std::cos(angle), sn = std::sin(angle);
+  EXPECT_NEAR((1 + 3 * c * c) / (3 * sn * c), 4.0 / 3.0, 1e-12);
+  EXPECT_GT(mu, (1 + 3 * c * c) / (3 * sn * c));
+}
+
+TEST(Scenario, PainleveRodExpressionsFollowOverrides) {
+  const Scene s = loadScene("painleve_rod", {{"half_length", 1.0}, {"angle", 0.7}, {"mass", 2.0}});
+  EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-15);
+  EXPECT_EQ(s.contacts[0].p_B, Eigen::Vector3d(1.0, 0, 0));
+  EXPECT_NEAR(s.model.inertia[2].I(1, 1), 2.0 * 4.0 / 12.0, 1e-15);
+  EXPECT_DOUBLE_EQ(s.q0[2], 0.7);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Overrides, defaults, limits, the scenes directory
+
+TEST(Scenario, ParseOverrides) {
+  const auto o = parseOverrides({"height=2", " angle = pi/4 ", "speed=-1.5e-1", "height=3"});
+  EXPECT_EQ(o.size(), 3u);
+  EXPECT_DOUBLE_EQ(o.at("height"), 3.0);  // the later assignment wins
+  EXPECT_DOUBLE_EQ(o.at("angle"), kPi / 4);
+  EXPECT_DOUBLE_EQ(o.at("speed"), -0.15);
+  for (const std::string bad : {"height", "=2", "he ight=2", "height=abc", "height=", "height=1/0", "a=b=2"}) {
+    SCOPED_TRACE(bad);
+    const std::string what = errorOf([&] { parseOverrides({"x=1", bad}); });
+    EXPECT_TRUE(contains(what, "'" + bad + "'")) << what;
+  }
+}
+
+TEST(Scenario, Defaults) {
+  const Scene s = loadScene(kDataDir + "defaults.yaml");
+  EXPECT_EQ(s.name, "defaults");
+  EXPECT_EQ(s.description, "");
+  EXPECT_EQ(s.model.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_EQ(s.duration, 1.0);
+  EXPECT_TRUE(s.parameters.empty());
+  ASSERT_EQ(s.surfaces.size(), 1u);
+  EXPECT_EQ(s.surfaces[0].point, Eigen::Vector3d::Zero());
+  EXPECT_EQ(s.surfaces[0].normal, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(s.surfaces[0].velocity(5.0), Eigen::Vector3d::Zero());
+  ASSERT_EQ(s.contacts.size(), 1u);
+  EXPECT_EQ(s.contacts[0].name, "mass");
+  EXPECT_EQ(s.contacts[0].p_B, Eigen::Vector3d::Zero());
+  EXPECT_EQ(s.contacts[0].restitution, 0.0);
+  EXPECT_EQ(s.contacts[0].directions, 2);  // point mass moving in x–z only: planar
+  EXPECT_TRUE(s.q0.isZero() && s.v0.isZero() && s.tau.isZero());
+  EXPECT_DOUBLE_EQ(s.model.totalMass(), 2.0);
+}
+
+TEST(Scenario, FreeRigidBody) {
+  const Scene s = loadScene(kDataDir + "free_rigid_body.yaml");
+  ASSERT_EQ(s.model.nv(), 6);
+  EXPECT_DOUBLE_EQ(s.parameters.at("b"), 0.2);
+  EXPECT_DOUBLE_EQ(s.q0[2], 0.2);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].directions, 4);  // spatial cone
+  EXPECT_EQ(s.contacts[1].directions, 0);  // frictionless
+  EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-15);
+  EXPECT_NEAR(gap(s, 1, s.q0), 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(s.duration, 2.0);
+  // The centre of mass is kept: h = m c.
+  EXPECT_NEAR((s.model.inertia[5].h - Eigen::Vector3d(0, 0, 0.03)).norm(), 0, 1e-15);
+  // Overriding a parameter changes the ones computed from it.
+  const Scene t = loadScene(kDataDir + "free_rigid_body.yaml", {{"a", 0.3}});
+  EXPECT_DOUBLE_EQ(t.parameters.at("b"), 0.6);
+  EXPECT_NEAR(gap(t, 0, t.q0), 0.0, 1e-15);
+}
+
+TEST(Scenario, JointLimitStopsAndInput) {
+  const Scene s = loadScene(kDataDir + "limits.yaml");
+  ASSERT_EQ(s.limits.size(), 4u);
+  const int rev = s.model.coordinateIndex("rev"), pris = s.model.coordinateIndex("pris");
+  struct Expected {
+    std::string name;
+    int coordinate;
+    bool upper;
+    double limit;
+  };
+  const std::vector<Expected> expected = {
+      {"rev_lower", rev, false, -1.0}, {"rev_upper", rev, true, 2.0},
+      {"pris_lower", pris, false, -0.1}, {"pris_upper", pris, true, 0.3}};
+  for (const Expected& e : expected) {
+    const auto it = std::find_if(s.limits.begin(), s.limits.end(), [&](const LimitStop& l) { return l.name == e.name; });
+    ASSERT_NE(it, s.limits.end()) << e.name;
+    EXPECT_EQ(it->coordinate, e.coordinate) << e.name;
+    EXPECT_EQ(it->upper, e.upper) << e.name;
+    EXPECT_DOUBLE_EQ(it->limit, e.limit) << e.name;
+    EXPECT_DOUBLE_EQ(it->restitution, 0.2) << e.name;
+  }
+  // The constant input, by coordinate; the others stay zero.
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(s.model.nv());
+  tau[rev] = 0.5;
+  tau[pris] = -2;
+  EXPECT_EQ(s.tau, tau);
+
+  // A list: stops for the named coordinates only, restitution 0 by default.
+  const Scene t = loadScene(kDataDir + "limits_list.yaml");
+  ASSERT_EQ(t.limits.size(), 2u);
+  EXPECT_EQ(t.limits[0].name, "pris_lower");
+  EXPECT_EQ(t.limits[1].name, "pris_upper");
+  EXPECT_EQ(t.limits[0].coordinate, pris);
+  EXPECT_EQ(t.limits[1].restitution, 0.0);
+}
+
+TEST(Scenario, ScenesDirectoryFromTheEnvironment) {
+  ASSERT_EQ(setenv("SALTUS_SCENES_DIR", kDataDir.c_str(), 1), 0);
+  const std::vector<std::string> names = builtinSceneNames();
+  const std::string what = errorOf([] { loadScene("ball_drop"); });
+  const Scene s = loadScene("limits");
+  unsetenv("SALTUS_SCENES_DIR");
+  EXPECT_NE(std::find(names.begin(), names.end(), "limits"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "ball_drop"), names.end());
+  EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_drop'")) << what;
+  EXPECT_EQ(s.source, "builtin:limits");
+  EXPECT_EQ(s.limits.size(), 4u);
+}
+
+TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
+  const std::string what = errorOf([] { loadScene("ball_dorp"); });
+  EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
+  EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_slide, painleve_rod, pendulum_conveyor")) << what;
+}
+
+TEST(Scenario, MissingFile) {
+  const std::string what = errorOf([] { loadScene(kDataDir + "no_such_file.yaml"); });
+  EXPECT_TRUE(contains(what, kDataDir + "no_such_file.yaml: cannot open")) << what;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: the message names the file, the line marked `# <-- error` in the fixture, the key
+// path and what was expected.
+
+int markedLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (contains(line, "# <-- error")) return n;
+  ADD_FAILURE() << path << " has no '# <-- error' line";
+  return -1;
+}
+
+// Loads the fixture; returns the message after checking file, line and key path.
+std::string expectError(const std::string& fixture, const std::string& key_path,
+                        const std::vector<std::string>& parts) {
+  const std::string path = kDataDir + fixture;
+  const std::string what = errorOf([&] { loadScene(path); });
+  const std::string where = path + ":" + std::to_string(markedLine(path)) + ":";
+  EXPECT_EQ(what.rfind(where, 0), 0u) << "expected to start with " << where << "\n" << what;
+  if (!key_path.empty()) {
+    EXPECT_TRUE(contains(what, ": " + key_path + ": ")) << key_path << "\n" << what;
+  }
+  for (const std::string& p : parts) EXPECT_TRUE(contains(what, p)) << p << "\n" << what;
+  return what;
+}
+
+TEST(ScenarioErrors, UnknownKey) {
+  expectError("unknown_key.yaml", "contacts[0].restitutoin",
+              {"unknown key 'restitutoin'", "did you mean 'restitution'", "expected one of: name, link, point"});
+}
+TEST(ScenarioErrors, UnknownKeyNested) {
+  expectError("unknown_key_nested.yaml", "model.point_mass.axis", {"unknown key 'axis'", "did you mean 'axes'"});
+}
+TEST(ScenarioErrors, UnknownKeyTopLevel) {
+  expectError("unknown_key_top.yaml", "durration", {"unknown key 'durration'", "did you mean 'duration'"});
+}
+TEST(ScenarioErrors, DuplicateKey) {
+  expectError("duplicate_key.yaml", "duration", {"given twice"});
+}
+TEST(ScenarioErrors, MissingKey) {
+  expectError("missing_key.yaml", "contacts[0].surface", {"missing required key 'surface'"});
+}
+TEST(ScenarioErrors, MissingModel) {
+  expectError("missing_model.yaml", "model", {"missing required key 'model'"});
+}
+TEST(ScenarioErrors, WrongTypeScalarForVector) {
+  expectError("wrong_type.yaml", "gravity", {"expected a sequence of 3 numbers", "'-9.81'"});
+}
+TEST(ScenarioErrors, WrongTypeMapForSequence) {
+  expectError("wrong_type_sequence.yaml", "surfaces", {"expected a sequence", "got a map"});
+}
+TEST(ScenarioErrors, BadExpressionUnknownName) {
+  expectError("bad_expression.yaml", "initial.q.z",
+              {"bad expression '2 * hieght'", "Unexpected token \"hieght\"", "parameters height"});
+}
+TEST(ScenarioErrors, BadExpressionSyntax) {
+  expectError("bad_expression_syntax.yaml", "parameters.double_height", {"bad expression '2 * (height'"});
+}
+TEST(ScenarioErrors, UnknownSurface) {
+  expectError("unknown_surface.yaml", "contacts[0].surface",
+              {"unknown surface 'groud'", "did you mean 'ground'", "surfaces are: ground"});
+}
+TEST(ScenarioErrors, UnknownLink) {
+  expectError("unknown_link.yaml", "contacts[0].link",
+              {"unknown link 'tipp'", "did you mean 'tip'", "links are: link1, link2, tip, world"});
+}
+TEST(ScenarioErrors, UnknownCoordinate) {
+  expectError("unknown_coordinate.yaml", "initial.v.theta3",
+              {"unknown coordinate 'theta3'", "coordinates are: theta1, theta2"});
+}
+TEST(ScenarioErrors, RestitutionOutOfRange) {
+  expectError("bad_restitution.yaml", "contacts[0].restitution", {"[0, 1]", "1.5"});
+}
+TEST(ScenarioErrors, NegativeFriction) {
+  expectError("negative_friction.yaml", "contacts[0].friction", {"non-negative", "-0.1"});
+}
+TEST(ScenarioErrors, TooFewDirections) {
+  expectError("few_directions.yaml", "contacts[0].directions", {"at least 2 directions", "got 1"});
+}
+TEST(ScenarioErrors, ZeroNormal) {
+  expectError("zero_normal.yaml", "surfaces[0].normal", {"non-zero"});
+}
+TEST(ScenarioErrors, NonTangentBeltVelocity) {
+  expectError("nontangent_belt.yaml", "surfaces[0].velocity_schedule[1].velocity", {"tangent", "0.1 m/s"});
+}
+TEST(ScenarioErrors, UnsortedSchedule) {
+  expectError("unsorted_schedule.yaml", "surfaces[0].velocity_schedule[1].time", {"increase"});
+}
+TEST(ScenarioErrors, YamlSyntax) {
+  const std::string what = errorOf([] { loadScene(kDataDir + "yaml_syntax.yaml"); });
+  EXPECT_EQ(what.rfind(kDataDir + "yaml_syntax.yaml:", 0), 0u) << what;
+  EXPECT_TRUE(contains(what, "YAML syntax error")) << what;
+}
+TEST(ScenarioErrors, UrdfErrorPassesThrough) {
+  expectError("bad_urdf.yaml", "model.urdf", {"missing_inertial.urdf: ", "inertial"});
+}
+TEST(ScenarioErrors, JointLimitWithoutLimit) {
+  expectError("bad_limit.yaml", "joint_limits[1]", {"'cont' has no finite position limit"});
+}
+TEST(ScenarioErrors, RigidBodyNeedsAMovingBase) {
+  expectError("rigid_body_fixed.yaml", "base", {"planar or free"});
+}
+TEST(ScenarioErrors, BadInertia) {
+  expectError("bad_inertia.yaml", "model.rigid_body.inertia", {"triangle inequality"});
+}
+TEST(ScenarioErrors, UnknownBase) {
+  expectError("unknown_base.yaml", "base", {"floating", "fixed", "planar", "free"});
+}
+TEST(ScenarioErrors, TwoModels) {
+  expectError("two_models.yaml", "model.point_mass", {"exactly one of: urdf, point_mass, rigid_body"});
+}
+
+}  // namespace
+}  // namespace saltus::timestepper
