@@ -1,0 +1,50 @@
+// What the subcommands of the `saltus` program share: how they register, how they report bad
+// input, and how they read models and vectors from the command line.
+//
+// Exit codes: 0 success, 1 a model or run-time error ("saltus: <message>"), 2 a usage error
+// (bad option or argument: "saltus: <message>" and a pointer to --help). On any error nothing is
+// written to standard output.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Core>
+
+#include "dynamics/model.hpp"
+
+namespace saltus::cli {
+
+// Bad command-line input; the message names the option or argument and what was expected.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A subcommand: its CLI11 parser and what runs when it was given. run() returns the exit code
+// and throws UsageError, dynamics::ModelError or other std::exceptions on failure.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+// One function per subcommand, each in its own file (inspect.cpp, ...).
+Command addInspectCommand(CLI::App& saltus);
+Command addSimulateCommand(CLI::App& saltus);  // simulate.cpp
+Command addBenchCommand(CLI::App& saltus);     // bench.cpp: work-precision, stability
+
+// The --base option's value: fixed, planar or free.
+dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value);
+
+// Reads a URDF model; throws dynamics::ModelError naming the file and element.
+dynamics::Model<double> loadModel(const std::string& path, dynamics::BaseType base);
+
+// A comma-separated list of numbers, one per model coordinate (coordinate order), e.g.
+// "--q=0,0.785". Throws UsageError naming the option and the offending token.
+Eigen::VectorXd parseCoordinateVector(const std::string& option, const std::string& text,
+                                      const std::vector<std::string>& coordinates);
+
+}  // namespace saltus::cli

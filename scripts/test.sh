@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what is missing, builds Release and runs every test, then builds
+# with AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again. Fails on any
+# failure; ends with ctest's summary of both runs.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+jobs="$(nproc)"
+summary=()
+timings=()
+passed=0
+failed=0
+
+# step LABEL COMMAND...: runs COMMAND and records how long it took.
+step() {
+  local label="$1" start=$SECONDS status=0
+  shift
+  "$@" || status=$?
+  timings+=("$label $((SECONDS - start))s")
+  return "$status"
+}
+
+# run_ctest LABEL DIR: runs ctest in DIR, keeps its summary line, returns its status.
+run_ctest() {
+  local label="$1" dir="$2" log status line
+  log="$(mktemp)"
+  set +e
+  (cd "$dir" && ctest --output-on-failure -j"$jobs") 2>&1 | tee "$log"
+  status=${PIPESTATUS[0]}
+  set -e
+  line="$(grep -E '[0-9]+% tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -n 1 || true)"
+  rm -f "$log"
+  if [[ -z "$line" ]]; then
+    summary+=("$label: ctest gave no summary (status $status)")
+    ((status != 0)) || status=1
+  else
+    summary+=("$label: $line")
+    local f n
+    f="$(sed -E 's/.* ([0-9]+) tests? failed out of ([0-9]+).*/\1/' <<<"$line")"
+    n="$(sed -E 's/.* ([0-9]+) tests? failed out of ([0-9]+).*/\2/' <<<"$line")"
+    passed=$((passed + n - f))
+    failed=$((failed + f))
+  fi
+  return "$status"
+}
+
+finish() {
+  echo
+  echo "test summary"
+  local s
+  for s in "${summary[@]}"; do echo "  $s"; done
+  local IFS=,
+  echo "  time: ${timings[*]}" | sed 's/,/, /g'
+  echo "total: $passed passed, $failed failed"
+}
+
+step setup bash scripts/setup.sh
+step "release build" bash scripts/build.sh release
+if ! step "release tests" run_ctest release build; then finish; exit 1; fi
+
+step "asan build" bash scripts/build.sh asan
+# Stop at the first sanitizer report, with a stack trace; leaks are reported too.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+if ! step "asan tests" run_ctest asan build-asan; then finish; exit 1; fi
+
+finish
