@@ -2,7 +2,9 @@
 #include "timestepper/lcp.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -13,14 +15,26 @@ namespace {
 using ConstMatrixRef = Eigen::Ref<const Eigen::MatrixXd>;
 using ConstVectorRef = Eigen::Ref<const Eigen::VectorXd>;
 
-// An entry a_i of the entering column B⁻¹ a_s is a pivot candidate only when it exceeds this
-// fraction of Σ_k |B⁻¹_ik a_sk|, the magnitude it was summed from: below that it is round-off.
+// Lemke works on the equilibrated problem M̂ = D_r M D_c, q̂ = D_r q (z = D_c ẑ, w = D_r⁻¹ ŵ): Ruiz'
+// scaling (D. Ruiz, "A scaling algorithm to equilibrate both rows and columns norms in
+// matrices", RAL-TR-2001-034) brings the largest entry of every row and column of M̂ near 1,
+// in powers of two so that M̂ is exact. Contact LCPs mix units (velocities, impulses, the
+// cone's dimensionless E and μ) and inverse masses over orders of magnitude; equilibrated,
+// one round-off scale fits all rows.
+constexpr int kEquilibrationSweeps = 8;
+// Round-off scales: a_i = Σ_k B⁻¹_ik â_sk of the entering column is known to about
+// Σ_k |B⁻¹_ik| |â_sk| + ‖B⁻¹_i‖∞ ‖â_s‖∞ times the relative precision (the sum's magnitude, plus
+// one entry of B⁻¹ that should be zero but holds elimination round-off), x_i to about
+// Σ_k |B⁻¹_ik| |q̂_k| times it. a_i is a pivot candidate only above this fraction of its
+// scale: below, it may be a zero that round-off made positive.
 constexpr double kPivotTolerance = 1e-11;
-// Ratios (and lexicographic entries) closer than this fraction of their round-off scale are ties.
+// Ratios and lexicographic entries closer than this fraction of their error scales are ties.
 constexpr double kTieTolerance = 1e-11;
-// Lemke's final basis counts as Solved when its residual is at most this fraction of the scale
-// 1 + ‖q‖∞ + max|M_ij| ‖z‖₁ of the terms in w = M z + q.
+// Lemke's result counts as Solved when each w_i is within this fraction of |q_i| + (|M| z)_i
+// of satisfying the LCP, give or take the floor: this fraction of the largest such magnitude in
+// equilibrated units (see the end of solveLemke).
 constexpr double kLemkeAcceptance = 1e-9;
+constexpr double kLemkeFloor = 1e-12;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
@@ -77,7 +91,10 @@ double lcpResidual(const ConstMatrixRef& M, const ConstVectorRef& q, const Const
 LcpSolver::LcpSolver(int capacity) : capacity_(capacity) {
   if (capacity < 0) throw std::invalid_argument("LcpSolver: negative capacity");
   basis_inverse_.resize(capacity, capacity);
-  for (Eigen::VectorXd* v : {&basic_value_, &entering_column_, &column_scale_, &value_scale_, &pivot_row_, &ratio_, &pgs_diagonal_})
+  scaled_matrix_.resize(capacity, capacity);
+  for (Eigen::VectorXd* v : {&scaled_q_, &row_scaling_, &column_scaling_, &row_factor_, &column_factor_, &basic_value_,
+                             &entering_column_, &entering_column_magnitude_, &basic_value_magnitude_,
+                             &row_norm_, &pivot_row_, &ratio_, &pgs_diagonal_})
     v->resize(capacity);
   basic_variable_.resize(capacity);
   tied_rows_.resize(capacity);
@@ -93,26 +110,64 @@ void LcpSolver::checkSizes(const ConstMatrixRef& M, const ConstVectorRef& q, con
                                 std::to_string(capacity_));
 }
 
-LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q, Eigen::Ref<Eigen::VectorXd> z,
-                                Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
-  checkSizes(M, q, z, w);
-  const int n = static_cast<int>(q.size());
+void LcpSolver::equilibrate(const ConstMatrixRef& M, int n) {
+  auto M_hat = scaled_matrix_.topLeftCorner(n, n);
+  auto row_scaling = row_scaling_.head(n), column_scaling = column_scaling_.head(n);
+  auto row_factor = row_factor_.head(n), column_factor = column_factor_.head(n);
+  M_hat = M;
+  row_scaling.setOnes();
+  column_scaling.setOnes();
+  // 1/√m rounded to a power of two, 2^−⌊e/2⌋ for m = 2^e · 1.x, read off the bits of normal
+  // m; empty rows and columns (and subnormal maxima) keep factor 1.
+  const auto factor = [](double m) {
+    if (!(m >= std::numeric_limits<double>::min())) return 1.0;
+    const int exponent = static_cast<int>((std::bit_cast<std::uint64_t>(m) >> 52) & 0x7ff) - 1023;
+    return std::bit_cast<double>(static_cast<std::uint64_t>(1023 - exponent / 2) << 52);
+  };
+  for (int sweep = 0; sweep < kEquilibrationSweeps; ++sweep) {
+    row_factor.setZero();
+    for (int j = 0; j < n; ++j) {
+      column_factor[j] = M_hat.col(j).cwiseAbs().maxCoeff();
+      row_factor = row_factor.cwiseMax(M_hat.col(j).cwiseAbs());
+    }
+    for (int i = 0; i < n; ++i) {
+      row_factor[i] = factor(row_factor[i]);
+      column_factor[i] = factor(column_factor[i]);
+    }
+    if ((row_factor.array() == 1.0).all() && (column_factor.array() == 1.0).all()) break;
+    for (int j = 0; j < n; ++j) M_hat.col(j).array() *= column_factor[j] * row_factor.array();
+    row_scaling.array() *= row_factor.array();
+    column_scaling.array() *= column_factor.array();
+  }
+}
+
+LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
+                                Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
+  checkSizes(M_original, q_original, z, w);
+  const int n = static_cast<int>(q_original.size());
   if (max_pivots <= 0) max_pivots = 50 * n + 100;
-  if (!M.allFinite() || !q.allFinite()) return nonFinite(z, w, 0);
-  if (n == 0 || q.minCoeff() >= 0) {  // z = 0, w = q
+  if (!M_original.allFinite() || !q_original.allFinite()) return nonFinite(z, w, 0);
+  if (n == 0 || q_original.minCoeff() >= 0) {  // z = 0, w = q
     z.setZero();
-    w = q;
+    w = q_original;
     return {LcpStatus::Solved, 0, 0.0};
   }
 
-  // Variables of I w − M z − d z0 = q, labelled w_j = j, z_j = n + j, z0 = 2n. The basis
-  // starts as w: B = I, x_B = q.
+  equilibrate(M_original, n);
+  const auto M = scaled_matrix_.topLeftCorner(n, n);
+  const auto row_scaling = row_scaling_.head(n), column_scaling = column_scaling_.head(n);
+  auto q = scaled_q_.head(n);
+  q = row_scaling.cwiseProduct(q_original);
+
+  // Variables of I ŵ − M̂ ẑ − d z0 = q̂ (d = 1), labelled ŵ_j = j, ẑ_j = n + j, z0 = 2n. The
+  // basis starts as ŵ: B = I, x_B = q̂. (Below, M and q are the equilibrated M̂ and q̂.)
   const int z0 = 2 * n;
   auto Binv = basis_inverse_.topLeftCorner(n, n);
   auto x = basic_value_.head(n);
   auto a = entering_column_.head(n);
-  auto column_scale = column_scale_.head(n);
-  auto value_scale = value_scale_.head(n);
+  auto row_norm = row_norm_.head(n);
+  auto a_magnitude = entering_column_magnitude_.head(n);
+  auto x_magnitude = basic_value_magnitude_.head(n);
   auto pivot_row = pivot_row_.head(n);
   auto ratio = ratio_.head(n);
   Binv.setIdentity();
@@ -136,15 +191,18 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
     x[r] = x_r;
   };
 
-  // a = B⁻¹ (column of the entering variable), with the round-off scales of a and x_B: one
-  // fused pass over B⁻¹ by columns.
+  // a = B⁻¹ â_s for the entering variable's column â_s (e_j for ŵ_j, −M̂ e_j for ẑ_j), the row
+  // norms ‖B⁻¹_i‖∞ and the round-off scales of a and x_B, in one pass over B⁻¹ by columns.
   const auto enteringColumn = [&](int entering) {
     a.setZero();
-    column_scale.setZero();
-    value_scale.setZero();
+    row_norm.setZero();
+    a_magnitude.setZero();
+    x_magnitude.setZero();
+    const double column_max = entering < n ? 1.0 : M.col(entering - n).cwiseAbs().maxCoeff();
     double* const a_data = a.data();
-    double* const column_scale_data = column_scale.data();
-    double* const value_scale_data = value_scale.data();
+    double* const row_norm_data = row_norm.data();
+    double* const a_magnitude_data = a_magnitude.data();
+    double* const x_magnitude_data = x_magnitude.data();
     for (int k = 0; k < n; ++k) {
       const double c = entering < n ? (k == entering ? 1.0 : 0.0) : -M(k, entering - n);
       const double c_abs = std::abs(c), q_abs = std::abs(q[k]);
@@ -152,21 +210,22 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
       for (int i = 0; i < n; ++i) {
         const double b_abs = std::abs(b[i]);
         a_data[i] += c * b[i];
-        column_scale_data[i] += c_abs * b_abs;
-        value_scale_data[i] += q_abs * b_abs;
+        row_norm_data[i] = std::max(row_norm_data[i], b_abs);
+        a_magnitude_data[i] += c_abs * b_abs;
+        x_magnitude_data[i] += q_abs * b_abs;
       }
     }
+    a_magnitude += column_max * row_norm;
   };
 
   // Is row c of [x_B  B⁻¹] / a lexicographically smaller than row b? x_B is already tied, so
   // the comparison starts at B⁻¹; entries within round-off of each other count as equal.
   const auto lexicographicallySmaller = [&](int c, int b) {
-    const double scale = kTieTolerance * (Binv.row(c).cwiseAbs().maxCoeff() / a[c] +
-                                          Binv.row(b).cwiseAbs().maxCoeff() / a[b]);
+    const double tie = kTieTolerance * (row_norm[c] / a[c] + row_norm[b] / a[b]);
     for (int k = 0; k < n; ++k) {
       const double vc = Binv(c, k) / a[c], vb = Binv(b, k) / a[b];
-      if (vc < vb - scale) return true;
-      if (vc > vb + scale) return false;
+      if (vc < vb - tie) return true;
+      if (vc > vb + tie) return false;
     }
     return false;
   };
@@ -176,16 +235,17 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   // row of B⁻¹ / a_i. Returns −1 when no a_i is positive: a secondary ray.
   const auto ratioTest = [&]() {
     for (int i = 0; i < n; ++i)
-      ratio[i] = a[i] > kPivotTolerance * column_scale[i] ? std::max(x[i], 0.0) / a[i] : kInfinity;
+      ratio[i] = a[i] > kPivotTolerance * a_magnitude[i] ? std::max(x[i], 0.0) / a[i] : kInfinity;
     int best;
     const double best_ratio = ratio.minCoeff(&best);
     if (best_ratio == kInfinity) return -1;
-    const double best_noise = (value_scale[best] + best_ratio * column_scale[best]) / a[best];
+    // Round-off scale of x_i / a_i: (δx_i + ratio δa_i) / a_i.
+    const auto noise = [&](int i) { return (x_magnitude[i] + ratio[i] * a_magnitude[i]) / a[i]; };
+    const double best_noise = noise(best);
     int tied = 0;
     for (int i = 0; i < n; ++i) {
       if (ratio[i] == kInfinity) continue;
-      const double noise = (value_scale[i] + ratio[i] * column_scale[i]) / a[i];
-      if (ratio[i] <= best_ratio + kTieTolerance * (noise + best_noise)) {
+      if (ratio[i] <= best_ratio + kTieTolerance * (noise(i) + best_noise)) {
         if (basic_variable_[i] == z0) return i;
         tied_rows_[tied++] = i;
       }
@@ -197,7 +257,7 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   };
 
   // z0 enters with column −d = −1 at the level that makes x_B ≥ 0: the row of the most
-  // negative q_i leaves. Among ties the lexicographic minimum of (q_i, e_iᵀ) is the largest i.
+  // negative q̂_i leaves. Among ties the lexicographic minimum of (q̂_i, e_iᵀ) is the largest i.
   const double q_min = q.minCoeff();
   int r = 0;
   for (int i = 0; i < n; ++i)
@@ -233,8 +293,8 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
     ++pivots;
   }
 
-  // One step of iterative refinement of B x_B = q against the original data: the residual
-  // q − B x_B, with columns e_j for w_j, −M e_j for z_j and −1 for z0, corrected through B⁻¹.
+  // One step of iterative refinement of B x_B = q̂: the residual q̂ − B x_B, with columns e_j
+  // for ŵ_j, −M̂ e_j for ẑ_j and −1 for z0, corrected through B⁻¹.
   auto residual = pivot_row;
   residual = q;
   for (int i = 0; i < n; ++i) {
@@ -245,17 +305,38 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M, const ConstVectorRef& q
   }
   for (int k = 0; k < n; ++k) x += residual[k] * Binv.col(k);
 
+  // z = D_c ẑ (exact: powers of two; round-off below zero cut off), w = M z + q from the
+  // original data, and the magnitude |q| + |M| z of the terms summed into each w_i.
+  auto w_magnitude = row_norm;
   z.setZero();
-  for (int i = 0; i < n; ++i)
-    if (basic_variable_[i] >= n && basic_variable_[i] < z0) z[basic_variable_[i] - n] = x[i];
-  computeSlack(M, q, z, w);
-  if (!z.allFinite() || !w.allFinite()) return nonFinite(z, w, pivots);
-  const double residual_norm = complementarityResidual(z, w);
-  if (status == LcpStatus::Solved) {
-    const double scale = 1.0 + q.cwiseAbs().maxCoeff() + M.cwiseAbs().maxCoeff() * z.lpNorm<1>();
-    if (residual_norm > kLemkeAcceptance * scale) status = LcpStatus::NotConverged;
+  for (int i = 0; i < n; ++i) {
+    const int v = basic_variable_[i];
+    if (v >= n && v < z0) z[v - n] = std::max(0.0, column_scaling[v - n] * x[i]);
   }
-  return {status, pivots, residual_norm};
+  w = q_original;
+  w_magnitude = q_original.cwiseAbs();
+  for (int j = 0; j < n; ++j) {
+    if (z[j] == 0) continue;
+    w += z[j] * M_original.col(j);
+    w_magnitude += z[j] * M_original.col(j).cwiseAbs();
+  }
+  if (!z.allFinite() || !w.allFinite()) return nonFinite(z, w, pivots);
+  // Acceptance: w_i ≥ 0, and w_i = 0 where z_i > 0, each to a fraction of the magnitude
+  // |q_i| + (|M| z)_i of its terms (then z solves the LCP of a slightly perturbed M and q), plus
+  // a floor at round-off of the largest such magnitude, compared in equilibrated units
+  // (ŵ = D_r w). A basis left by z0 that fails this is numerical breakdown; a ray or the pivot
+  // limit reached with z0 at round-off level still leaves a solution, and a verified solution
+  // is what counts.
+  const double noise_floor = kLemkeFloor * row_scaling.cwiseProduct(w_magnitude).maxCoeff();
+  bool accepted = true;
+  for (int i = 0; i < n; ++i) {
+    const double w_hat = row_scaling[i] * w[i];
+    const double tolerance = kLemkeAcceptance * row_scaling[i] * w_magnitude[i] + noise_floor;
+    if (w_hat < -tolerance || (z[i] > 0 && w_hat > tolerance)) accepted = false;
+  }
+  if (accepted) status = LcpStatus::Solved;
+  else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
+  return {status, pivots, complementarityResidual(z, w)};
 }
 
 LcpResult LcpSolver::solvePgs(const ConstMatrixRef& M, const ConstVectorRef& q, Eigen::Ref<Eigen::VectorXd> z,

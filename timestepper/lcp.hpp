@@ -25,10 +25,11 @@
 namespace saltus::timestepper {
 
 enum class LcpStatus {
-  Solved,          // z, w satisfy the LCP up to round-off; residual says how well
-  RayTermination,  // Lemke ended on a secondary ray: no solution found (infeasible if M is copositive-plus)
-  IterationLimit,  // Lemke used up its pivots before z0 left the basis
-  NotConverged,    // PGS stopped at max_iterations above tolerance; or Lemke's final basis failed the residual check
+  Solved,          // z, w satisfy the LCP (Lemke: to round-off, checked; PGS: residual <= tolerance)
+  RayTermination,  // Lemke ended on a secondary ray, no solution found; for copositive-plus M the LCP is infeasible
+  IterationLimit,  // Lemke used up max_pivots before z0 left the basis
+  NotConverged,    // PGS stopped at max_iterations above tolerance; or z0 left Lemke's basis but the result
+                   // failed the acceptance check (numerical breakdown)
   NonFinite,       // M, q (or PGS' warm start) hold NaN or infinity, or a pivot produced one
 };
 const char* toString(LcpStatus status);
@@ -51,11 +52,16 @@ class LcpSolver {
  public:
   explicit LcpSolver(int capacity);
 
-  // Lemke's complementary pivoting with covering vector d = (1, …, 1) (CPS §4.4) and
-  // the lexicographic minimum-ratio test (CPS §4.9). The basis inverse is kept explicitly and
-  // updated by one elimination per pivot, O(n²); the final basic solution gets one step of
-  // iterative refinement against M and q. On RayTermination and IterationLimit, z is the last
-  // basic solution without z0 (not a solution) and w = M z + q. max_pivots = 0 means 50 n + 100.
+  // Lemke's complementary pivoting (CPS §4.4) with the lexicographic minimum-ratio test
+  // (CPS §4.9), on the problem equilibrated by diagonal row and column scaling (exact, powers
+  // of two), with covering vector d = (1, …, 1) there. The basis inverse is kept explicitly and
+  // updated by one elimination per pivot, O(n²); pivot candidates and ties are judged against
+  // round-off scales, and the final basic solution gets one step of iterative refinement. The
+  // result is then checked: Solved means w_i ≥ 0 and w_i = 0 where z_i > 0, each to 1e-9 of
+  // |q_i| + (|M| z)_i (a solution of a slightly perturbed LCP) plus a round-off floor; a basis
+  // that passes is Solved even when the pivoting ended on a ray or at max_pivots with z0 at
+  // round-off level. Otherwise z is the last basic solution without z0 and w = M z + q.
+  // max_pivots = 0 means 50 n + 100.
   LcpResult solveLemke(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
                        Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
 
@@ -69,9 +75,10 @@ class LcpSolver {
   // with positive diagonal, d_i = M_ii − Σ_{j: M_jj > 0} M_ij M_ji / M_jj: for a λ row that is
   // Σ_j 1 / (D A Dᵀ)_jj over the contact's friction directions, the rate at which w_λ grows when
   // λ grows and those directions' β answer by their own Gauss–Seidel steps. Rows where this is
-  // still <= 0 are left at their warm-start value. PGS is therefore approximate on the friction
-  // LCP: it often stalls above tolerance there and then says so (NotConverged); use Lemke for
-  // exact contact solutions.
+  // still <= 0 are left at their warm-start value. On the friction LCP this is a heuristic
+  // without a convergence guarantee: PGS usually converges there (most random contact LCPs in
+  // the tests), and when it stalls above tolerance it says so (NotConverged). Lemke is the
+  // exact solver for contact problems.
   LcpResult solvePgs(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
                      Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_iterations = 200,
                      double tolerance = 1e-10, double relaxation = 1.0);
@@ -81,14 +88,18 @@ class LcpSolver {
  private:
   void checkSizes(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
                   const Eigen::Ref<Eigen::VectorXd>& z, const Eigen::Ref<Eigen::VectorXd>& w) const;
+  // Ruiz equilibration M̂ = D_r M D_c of M (see lcp.cpp) into scaled_matrix_, q̂ = D_r q.
+  void equilibrate(const Eigen::Ref<const Eigen::MatrixXd>& M, int n);
 
   int capacity_;
-  // Lemke: basis inverse B⁻¹ of the system I w − M z − d z0 = q, values of the basic variables
-  // x_B = B⁻¹ q, the entering column B⁻¹ a_s and two round-off scales per row (Σ_k |B⁻¹_ik a_sk|
-  // and Σ_k |B⁻¹_ik q_k|), the pivot row, the ratios x_i / a_i, the label of each row's basic
-  // variable (w_j = j, z_j = n + j, z0 = 2n) and the rows tied in the ratio test.
-  Eigen::MatrixXd basis_inverse_;
-  Eigen::VectorXd basic_value_, entering_column_, column_scale_, value_scale_, pivot_row_, ratio_;
+  // Lemke: the equilibrated M̂ and q̂, the diagonals of D_r and D_c and one sweep's factors;
+  // basis inverse B⁻¹ of the system I ŵ − M̂ ẑ − d z0 = q̂, values of the basic variables
+  // x_B = B⁻¹ q̂ and the entering column B⁻¹ â_s with their round-off scales, the row norms
+  // ‖B⁻¹_i‖∞, the pivot row, the ratios x_i / a_i, the label of each row's basic variable
+  // (ŵ_j = j, ẑ_j = n + j, z0 = 2n) and the rows tied in the ratio test.
+  Eigen::MatrixXd scaled_matrix_, basis_inverse_;
+  Eigen::VectorXd scaled_q_, row_scaling_, column_scaling_, row_factor_, column_factor_, basic_value_,
+      basic_value_magnitude_, entering_column_, entering_column_magnitude_, row_norm_, pivot_row_, ratio_;
   std::vector<int> basic_variable_, tied_rows_;
   // PGS: the diagonal d_i each row divides by.
   Eigen::VectorXd pgs_diagonal_;

@@ -109,7 +109,7 @@ void TimeStepper::buildRows(double t_next) {
     active_.push_back(c);
     active_gap_.push_back(gap);
     active_e_.push_back(vn < -restitution_threshold_ ? contact.restitution : 0.0);
-    N_.row(m_++) = surface.normal.transpose() * J_point_[c];
+    N_.row(m_++).noalias() = surface.normal.transpose() * J_point_[c];
   }
   const int nc = static_cast<int>(scene_.contacts.size());
   for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
@@ -132,7 +132,7 @@ void TimeStepper::buildRows(double t_next) {
     const Eigen::Vector3d v_surface = scene_.surfaces[contact.surface].velocity(t_next);
     for (int j = 0; j < contact.directions; ++j) {
       const Eigen::Vector3d d = frictionDirection(tangents_[contact.surface], j, contact.directions);
-      D_.row(f_) = d.transpose() * J_point_[c];
+      D_.row(f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
   }
@@ -158,7 +158,10 @@ void TimeStepper::solveLcp(int nz) {
     else if (active_gap_[r] > 0)  // + gap/(θh): an open gap may close within the step
       b_[r] += active_gap_[r] / (options_.theta * options_.dt);
   }
-  if (f > 0) b_.segment(m, f).noalias() = D_.topRows(f) * v_free_ - surface_velocity_.head(f);
+  if (f > 0) {
+    b_.segment(m, f).noalias() = D_.topRows(f) * v_free_;
+    b_.segment(m, f) -= surface_velocity_.head(f);
+  }
   // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
   int row = m + f, col = m;
   for (int r = 0; r < m; ++r) {
@@ -216,7 +219,7 @@ void TimeStepper::project() {
     const Contact& contact = scene_.contacts[c];
     if (reports_[c].gap >= -options_.penetration_tolerance) continue;
     dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
-    N_.row(m_) = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
+    N_.row(m_).noalias() = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
   }

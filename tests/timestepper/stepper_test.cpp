@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "dynamics/aba.hpp"
+#include "tests/support/heap_counter.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace saltus::timestepper {
@@ -242,6 +243,29 @@ TEST(Stepper, SolverFailureIsReportedWithTimeAndContacts) {
     EXPECT_NE(std::string(e.what()).find("pgs"), std::string::npos);
   }
   EXPECT_EQ(sim.stats().lcp_failures, 1);
+}
+
+}  // namespace
+}  // namespace saltus::timestepper
+
+namespace saltus::timestepper {
+namespace {
+
+// After the first step, stepping allocates nothing: every scene with contacts, friction, a belt
+// and penetration handling, for both solvers.
+TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
+  std::vector<Scene> scenes = {testing::ballDrop(0.3, 0.5), testing::blockSlide(0.2, 1.0, 0.3),
+                               testing::pendulumConveyor(2.0, 0.5, 0.01), testing::painleveRod(2.0, std::atan(2.0), 1.0),
+                               testing::particle3d(Eigen::Vector2d(1.0, 0.5), 0.4, 8)};
+  for (const Scene& scene : scenes) {
+    for (LcpMethod solver : {LcpMethod::Lemke, LcpMethod::Pgs}) {
+      TimeStepper sim(scene, options(1e-3, 0.5, solver));
+      sim.step();
+      const long before = saltus::testing::heapAllocations();
+      for (int i = 0; i < 300; ++i) sim.step();
+      EXPECT_EQ(saltus::testing::heapAllocations() - before, 0) << scene.name;
+    }
+  }
 }
 
 }  // namespace
