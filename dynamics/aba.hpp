@@ -7,19 +7,37 @@
 namespace saltus::dynamics {
 
 namespace detail {
+// Eᵀ S E for a symmetric 3×3 S: one triangle computed, mirrored.
+template <class S, class Block>
+SALTUS_INLINE Mat3<S> symmetricSandwich(const Mat3<S>& E, const Block& Sym) {
+  Mat3<S> SE, out;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) SE(k, c) = Sym(k, 0) * E(0, c) + Sym(k, 1) * E(1, c) + Sym(k, 2) * E(2, c);
+  for (int c = 0; c < 3; ++c)
+    for (int k = c; k < 3; ++k) out(k, c) = out(c, k) = E(0, k) * SE(0, c) + E(1, k) * SE(1, c) + E(2, k) * SE(2, c);
+  return out;
+}
+
 // Xᵀ IA X for a symmetric 6×6 articulated inertia in (angular; linear) blocks [A B; Bᵀ C] and
-// X = rot(E) xlt(r): rotate each block, then shift by r (derivation in RBDA 2.8 with xlt(r) =
-// [1 0; −r× 1]).
+// X = rot(E) xlt(r), xlt(r) = [1 0; −r× 1] (RBDA 2.8): rotate each block, then shift by r:
+//   C' = C,  B' = B + r× C,  A' = A + r× Bᵀ − B' r×   (A', C' symmetric).
+// The products with r× are taken as cross products.
 template <class S>
 Mat6<S> transformArticulatedInertia(const Mat6<S>& IA, const Transform<S>& X) {
-  const Mat3<S> Et = X.E.transpose();
-  const Mat3<S> A = Et * IA.template topLeftCorner<3, 3>() * X.E;
-  const Mat3<S> B = Et * IA.template topRightCorner<3, 3>() * X.E;
-  const Mat3<S> C = Et * IA.template bottomRightCorner<3, 3>() * X.E;
-  const Mat3<S> rx = skew(X.r);
-  const Mat3<S> Bn = B + rx * C;  // top-right of the result
+  const Mat3<S>& E = X.E;
+  const Vec3<S>& r = X.r;
+  const Mat3<S> A = symmetricSandwich(E, IA.template topLeftCorner<3, 3>());
+  const Mat3<S> C = symmetricSandwich(E, IA.template bottomRightCorner<3, 3>());
+  const Mat3<S> B = E.transpose() * IA.template topRightCorner<3, 3>() * E;
+  Mat3<S> Bn;  // B + r× C, column by column
+  for (int j = 0; j < 3; ++j) Bn.col(j) = B.col(j) + r.cross(Vec3<S>(C.col(j)));
   Mat6<S> out;
-  out.template topLeftCorner<3, 3>() = A + rx * B.transpose() - Bn * rx;
+  // r× Bᵀ: column j is r × (row j of B); B' r×: row i is −(r × row i of B')ᵀ.
+  Mat3<S> rxBt, Bnrx;
+  for (int j = 0; j < 3; ++j) rxBt.col(j) = r.cross(Vec3<S>(B.row(j).transpose()));
+  for (int i = 0; i < 3; ++i) Bnrx.row(i) = -r.cross(Vec3<S>(Bn.row(i).transpose())).transpose();
+  for (int c = 0; c < 3; ++c)
+    for (int k = c; k < 3; ++k) out(k, c) = out(c, k) = A(k, c) + rxBt(k, c) - Bnrx(k, c);
   out.template topRightCorner<3, 3>() = Bn;
   out.template bottomLeftCorner<3, 3>() = Bn.transpose();
   out.template bottomRightCorner<3, 3>() = C;
