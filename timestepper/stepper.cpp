@@ -153,8 +153,8 @@ void TimeStepper::solveLcp(int nz) {
   }
   b_.head(m).noalias() = N_.topRows(m) * v_free_;
   for (int r = 0; r < m; ++r) {
-    if (active_e_[r] > 0)  // + e n·v: Newton's law v_n⁺ ≥ −e v_n⁻ (Moreau's impact law)
-      b_[r] += active_e_[r] * N_.row(r).dot(v_);
+    if (active_e_[r] > 0)  // impact: v_n⁺ ≥ −e v_n + (v_n* − v_n), i.e. w = W p + (1 + e) v_n
+      b_[r] = (1 + active_e_[r]) * N_.row(r).dot(v_);
     else if (active_gap_[r] > 0)  // + gap/(θh): an open gap may close within the step
       b_[r] += active_gap_[r] / (options_.theta * options_.dt);
   }

@@ -19,7 +19,11 @@
 // Joint-limit stops likewise.
 //
 // Complementarity, for each active contact (normal row n_i of N, friction rows d_ij of D):
-//   0 ≤ p_n,i ⊥ n_i v⁺ + e_i n_i v ≥ 0          Newton restitution at velocity level (Moreau);
+//   0 ≤ p_n,i ⊥ n_i v⁺ + e_i n_i v − n_i (v* − v) ≥ 0
+//                                                Newton restitution at velocity level (Moreau),
+//                                                the impact applied to the velocity before the
+//                                                step and the free acceleration acting after it,
+//                                                so an e = 1 bounce does not gain energy;
 //                                                e_i = 0 when the approach speed is below
 //                                                restitution_threshold (resting contacts)
 //   0 ≤ p_n,i ⊥ n_i v⁺ + gap⁺_i / (θ h) ≥ 0      for e_i = 0: an open gap may close within the

@@ -270,3 +270,26 @@ TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
 
 }  // namespace
 }  // namespace saltus::timestepper
+
+namespace saltus::timestepper {
+namespace {
+
+// A perfectly elastic ball never gains energy, at any step size (the impact is applied to the
+// pre-impact velocity, the free fall acts over the whole step).
+TEST(Stepper, ElasticBallDoesNotGainEnergy) {
+  for (double dt : {1e-3, 1e-2, 5e-2}) {
+    TimeStepper sim(testing::ballDrop(1.0, 1.0), options(dt, 1.0));
+    const double E0 = sim.energy();
+    double E_max = E0;
+    while (sim.time() < 3.0) {
+      sim.step();
+      E_max = std::max(E_max, sim.energy());
+    }
+    EXPECT_LE(E_max, E0 * (1 + 1e-12)) << "dt = " << dt;
+    // θ = 1 dissipates ½ g² dt² per step in free flight; at dt = 1e-3 that is little.
+    if (dt == 1e-3) EXPECT_GT(sim.energy(), 0.98 * E0);
+  }
+}
+
+}  // namespace
+}  // namespace saltus::timestepper

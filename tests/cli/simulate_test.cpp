@@ -1,0 +1,333 @@
+// `saltus simulate` and `saltus bench`, run as programs: the built binary (SALTUS_BINARY) on the
+// built-in scenes; the trajectory CSV checked against the analytic ball drop, the bench CSV files
+// and charts checked for their columns and content, and errors checked for exit code, message,
+// an empty standard output and no file left behind.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;  // exit code, −1 when killed by a signal
+  std::string out, err;
+};
+
+std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `[ENV] saltus ARGS...` with stdout captured through a pipe and stderr through a file.
+Result saltus(const std::vector<std::string>& args, const std::string& env = "") {
+  const fs::path err_path = fs::temp_directory_path() / ("saltus_sim_test_" + std::to_string(::getpid()) + ".stderr");
+  std::string cmd = env;
+  if (!cmd.empty()) cmd += ' ';
+  cmd += shellQuote(SALTUS_BINARY);
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += shellQuote(a);
+  }
+  cmd += " </dev/null 2>";
+  cmd += shellQuote(err_path.string());
+  Result r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.out.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = readFile(err_path);
+  fs::remove(err_path);
+  return r;
+}
+
+// A fresh, empty folder per test, removed afterwards.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag)
+      : path_(fs::temp_directory_path() / ("saltus_sim_test_" + std::to_string(::getpid()) + "_" + tag)) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::vector<std::string> splitCsvLine(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cell += '"', ++i;
+      else if (c == '"') quoted = false;
+      else cell += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      cells.push_back(cell);
+      cell.clear();
+    } else {
+      cell += c;
+    }
+  }
+  cells.push_back(cell);
+  return cells;
+}
+
+// A CSV file without its '#' comment lines: the header and the rows as maps column → text.
+struct Csv {
+  std::vector<std::string> comments, header;
+  std::vector<std::map<std::string, std::string>> rows;
+  double number(std::size_t row, const std::string& column) const { return std::stod(rows.at(row).at(column)); }
+};
+
+Csv readCsv(const std::string& path) {
+  Csv csv;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      csv.comments.push_back(line);
+    } else if (csv.header.empty()) {
+      csv.header = splitCsvLine(line);
+    } else {
+      const std::vector<std::string> cells = splitCsvLine(line);
+      EXPECT_EQ(cells.size(), csv.header.size()) << line;
+      std::map<std::string, std::string> row;
+      for (std::size_t i = 0; i < cells.size() && i < csv.header.size(); ++i) row[csv.header[i]] = cells[i];
+      csv.rows.push_back(row);
+    }
+  }
+  return csv;
+}
+
+// Highest z between the first and the second impact (pn > 0 marks an impact step).
+double firstApex(const Csv& csv) {
+  std::size_t i = 0;
+  const std::size_t n = csv.rows.size();
+  while (i < n && !(csv.number(i, "contact.ball.pn") > 0)) ++i;
+  if (i == n) return NAN;
+  double apex = csv.number(i, "q.z");
+  for (; i < n && csv.number(i, "contact.ball.pn") > 0; ++i) apex = std::max(apex, csv.number(i, "q.z"));
+  for (; i < n && !(csv.number(i, "contact.ball.pn") > 0); ++i) apex = std::max(apex, csv.number(i, "q.z"));
+  return apex;
+}
+
+const std::vector<std::string> kBallDropHeader = {"t",  "q.z", "v.z", "contact.ball.gap", "contact.ball.vn",
+                                                   "contact.ball.vt", "contact.ball.pn", "contact.ball.pt"};
+
+TEST(Simulate, BallDropCsvAndFirstApex) {
+  const TempDir dir("apex");
+  const std::string out = dir / "traj.csv";
+  const Result r = saltus({"simulate", "ball_drop", "--dt", "1e-4", "--set", "restitution=0.5", "--duration", "1.2",
+                           "--out", out});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "") << "the summary goes to stderr";
+  const Csv csv = readCsv(out);
+  EXPECT_EQ(csv.header, kBallDropHeader);
+  ASSERT_EQ(csv.rows.size(), 12001u) << "a row at t = 0 and one after each of the 12000 steps";
+  EXPECT_EQ(csv.number(0, "t"), 0);
+  EXPECT_EQ(csv.number(0, "q.z"), 1.0);
+  EXPECT_EQ(csv.number(0, "v.z"), 0.0);
+  EXPECT_NEAR(csv.number(csv.rows.size() - 1, "t"), 1.2, 1e-9);
+  EXPECT_NEAR(firstApex(csv), 0.5 * 0.5 * 1.0, 2e-3) << "e² h0 (facts.md §3)";
+  // The one-line summary.
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const char* text : {"12000 steps", "µs per step", "LCP failures 0", "largest penetration", "E_end - E_0"})
+    EXPECT_NE(r.err.find(text), std::string::npos) << "missing '" << text << "' in " << r.err;
+  EXPECT_EQ(r.err.find("input/belt work included"), std::string::npos) << "ball_drop is passive: " << r.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.csv"}) << "no temporary file left";
+}
+
+TEST(Simulate, SetChangesTheInitialRow) {
+  const TempDir dir("set");
+  const Result r = saltus({"simulate", "ball_drop", "--set", "height=2", "--duration", "0.01", "--out", dir / "t.csv"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = readCsv(dir / "t.csv");
+  ASSERT_EQ(csv.rows.size(), 11u);
+  EXPECT_EQ(csv.number(0, "q.z"), 2.0);
+  EXPECT_EQ(csv.number(0, "contact.ball.gap"), 2.0);
+}
+
+TEST(Simulate, DurationDefaultsToTheScenes) {
+  const TempDir dir("duration");
+  const Result r = saltus({"simulate", "pendulum_conveyor", "--dt", "1e-2", "--out", dir / "t.csv"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = readCsv(dir / "t.csv");
+  ASSERT_EQ(csv.rows.size(), 51u) << "pendulum_conveyor: duration 0.5 s";
+  EXPECT_NE(r.err.find("input/belt work included"), std::string::npos) << r.err;
+  EXPECT_EQ(csv.header.front(), "t");
+  EXPECT_EQ(csv.header.at(1), "q.theta1");
+}
+
+TEST(Simulate, PgsSolverOnBallDrop) {
+  const TempDir dir("pgs");
+  const Result r = saltus({"simulate", "ball_drop", "--solver", "pgs", "--dt", "1e-3", "--duration", "1.2", "--out",
+                           dir / "t.csv"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("pgs"), std::string::npos) << r.err;
+  const Csv csv = readCsv(dir / "t.csv");
+  EXPECT_EQ(csv.header, kBallDropHeader);
+  EXPECT_NEAR(firstApex(csv), 0.25, 1e-2);
+}
+
+// An error: exit code, message on stderr, nothing on stdout, nothing left in the folder.
+void expectError(const TempDir& dir, std::vector<std::string> args, int status, const std::vector<std::string>& texts,
+                 const std::string& env = "") {
+  const Result r = saltus(args, env);
+  EXPECT_EQ(r.status, status) << r.err;
+  EXPECT_EQ(r.out, "") << "stdout must stay empty on error";
+  EXPECT_EQ(r.err.rfind("saltus: ", 0), 0u) << r.err;
+  for (const std::string& text : texts)
+    EXPECT_NE(r.err.find(text), std::string::npos) << "expected '" << text << "' in stderr:\n" << r.err;
+  EXPECT_TRUE(dir.entries().empty()) << "left behind: " << dir.entries().front();
+}
+
+TEST(SimulateErrors, UnknownParameterListsTheScenesParameters) {
+  const TempDir dir("badset");
+  expectError(dir, {"simulate", "ball_drop", "--set", "heigth=2", "--out", dir / "t.csv"}, 1,
+              {"heigth", "height", "restitution"});
+}
+
+TEST(SimulateErrors, BadOptionsNameTheOption) {
+  const TempDir dir("badopt");
+  const std::string out = dir / "t.csv";
+  expectError(dir, {"simulate", "ball_drop", "--dt", "0", "--out", out}, 2, {"--dt"});
+  expectError(dir, {"simulate", "ball_drop", "--dt", "abc", "--out", out}, 2, {"--dt"});
+  expectError(dir, {"simulate", "ball_drop", "--theta", "0.3", "--out", out}, 2, {"--theta"});
+  expectError(dir, {"simulate", "ball_drop", "--solver", "dantzig", "--out", out}, 2, {"--solver", "lemke or pgs"});
+  expectError(dir, {"simulate", "ball_drop", "--duration", "-1", "--out", out}, 2, {"--duration"});
+  expectError(dir, {"simulate", "ball_drop", "--set", "height", "--out", out}, 2, {"--set", "name=value"});
+  expectError(dir, {"simulate", "ball_drop"}, 2, {"--out"});
+  expectError(dir, {"simulate", "no_such_scene", "--out", out}, 1, {"no_such_scene", "ball_drop"});
+}
+
+TEST(SimulateErrors, SimulationErrorLeavesNoFile) {
+  // PGS does not converge on the paradoxical rod at μ = 5 (measured: t ≈ 0.78 s).
+  const TempDir dir("lcpfail");
+  expectError(dir, {"simulate", "painleve_rod", "--solver", "pgs", "--set", "friction=5", "--dt", "1e-2", "--out",
+                    dir / "t.csv"},
+              1, {"LCP solver (pgs) failed at t = "});
+}
+
+TEST(BenchWorkPrecision, BallDropErrorsFallWithDtAndChartsExist) {
+  const TempDir dir("wp");
+  const Result r = saltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2,5e-3,2e-3", "--min-time", "0",
+                           "--out", dir.path().string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  const Csv csv = readCsv(dir / "work_precision.csv");
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"dt", "error", "cpu_seconds_per_simulated_second", "ns_per_step",
+                                                   "steps", "lcp_failures"}));
+  ASSERT_EQ(csv.rows.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_GT(csv.number(i, "cpu_seconds_per_simulated_second"), 0);
+    EXPECT_GT(csv.number(i, "ns_per_step"), 0);
+    EXPECT_EQ(csv.number(i, "lcp_failures"), 0);
+    if (i > 0) {
+      EXPECT_LT(csv.number(i, "dt"), csv.number(i - 1, "dt"));
+      EXPECT_LT(csv.number(i, "error"), csv.number(i - 1, "error")) << "row " << i;
+    }
+  }
+  EXPECT_EQ(csv.number(0, "steps"), 300);  // 3 s at 1e-2
+  bool names_error = false;
+  for (const std::string& c : csv.comments) names_error |= c.find("# error: |first apex - e^2 h0|") == 0;
+  EXPECT_TRUE(names_error) << "the CSV says how the error is measured";
+  const std::string png = readFile(dir / "work_precision.png"), svg = readFile(dir / "work_precision.svg");
+  EXPECT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.rfind("\x89PNG\r\n", 0), 0u);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+}
+
+TEST(BenchStability, BallDropTinyGrid) {
+  const TempDir dir("stab");
+  const Result r = saltus({"bench", "stability", "ball_drop", "--dts", "1e-2,1e-1", "--restitutions", "0.5,1",
+                           "--out", dir.path().string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  const Csv csv = readCsv(dir / "stability.csv");
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"dt", "friction", "restitution", "outcome", "max_penetration",
+                                                   "energy_gain", "steps", "t_end", "message"}));
+  ASSERT_EQ(csv.rows.size(), 4u) << "2 dt × 2 restitution (ball_drop has no friction parameter)";
+  const std::set<std::string> outcomes{"ok", "lcp_failure", "nan", "energy_gain", "penetration", "error"};
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const auto& row = csv.rows[i];
+    EXPECT_EQ(row.at("friction"), "");
+    EXPECT_TRUE(outcomes.count(row.at("outcome"))) << row.at("outcome");
+    // The outcome agrees with the measured numbers.
+    const double pen = csv.number(i, "max_penetration"), gain = csv.number(i, "energy_gain");
+    const std::string& outcome = row.at("outcome");
+    if (outcome == "ok") {
+      EXPECT_TRUE(pen <= 1e-3 && gain <= 1e-9) << pen << " " << gain;
+      EXPECT_EQ(row.at("message"), "");
+    } else {
+      EXPECT_NE(row.at("message"), "");
+    }
+    if (outcome == "penetration") {
+      EXPECT_GT(pen, 1e-3);
+    }
+    if (outcome == "energy_gain") {
+      EXPECT_GT(gain, 1e-9);
+    }
+  }
+  EXPECT_EQ(csv.rows[0].at("outcome"), "ok") << "dt 1e-2, e = 0.5: the default scene at a moderate step";
+  EXPECT_GT(readFile(dir / "stability.png").size(), 1000u);
+  EXPECT_NE(readFile(dir / "stability.svg").find("<svg"), std::string::npos);
+}
+
+TEST(BenchErrors, ChartFailureIsReportedAndTheCsvStays) {
+  const TempDir dir("chartfail");
+  const Result r = saltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2", "--min-time", "0", "--out",
+                           dir.path().string()},
+                          "SALTUS_PYTHON=/nonexistent/python3");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("saltus: chart step failed"), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"work_precision.csv"});
+}
+
+TEST(BenchErrors, UsageErrors) {
+  const TempDir dir("benchusage");
+  const std::string out = (dir.path() / "x").string();
+  expectError(dir, {"bench"}, 2, {"subcommand"});
+  expectError(dir, {"bench", "work-precision", "ball_drop", "--dts", "1e-2,abc", "--out", out}, 2, {"--dts", "abc"});
+  expectError(dir, {"bench", "stability", "block_slide", "--restitutions", "0.5", "--out", out}, 2,
+              {"--restitutions", "restitution"});
+  expectError(dir, {"bench", "stability", "ball_drop", "--set", "heigth=1", "--out", out}, 1, {"height"});
+}
+
+}  // namespace

@@ -1,0 +1,144 @@
+// The closed-form answers of timestepper/analytic.hpp against hand values and each other
+// (shared/reference/facts.md §3), the first-apex measurement on synthetic trajectories, and one
+// run of the time-stepper on the built-in ball_drop scene measured with it.
+#include "timestepper/analytic.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "timestepper/scenario.hpp"
+#include "timestepper/stepper.hpp"
+
+namespace saltus::timestepper::analytic {
+namespace {
+
+constexpr double g = 9.81;
+
+TEST(Analytic, BallApexes) {
+  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 0), 1.0);
+  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 1), 0.25);
+  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 2), 0.0625);  // facts.md §5: 0.25000 / 0.06250 m
+  EXPECT_DOUBLE_EQ(ballApex(2.0, 0.8, 1), 2.0 * 0.64);
+  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.0, 1), 0.0);
+}
+
+TEST(Analytic, BallImpactSpeedMatchesApex) {
+  // v_k² = 2 g h_k: the ball leaves impact k at e v_k and rises to h_(k+1).
+  for (double e : {0.3, 0.5, 1.0})
+    for (int k = 0; k < 3; ++k) {
+      const double v = ballImpactSpeed(1.5, e, k, g);
+      EXPECT_NEAR(v * v, 2 * g * ballApex(1.5, e, k), 1e-12) << "e " << e << " k " << k;
+    }
+  EXPECT_NEAR(ballImpactSpeed(1.0, 0.5, 0, g), std::sqrt(2 * g), 1e-15);
+}
+
+TEST(Analytic, BallRestTimeIsTheSumOfTheFlights) {
+  // √(2h0/g) to the first impact, then 2 e^k √(2h0/g) per bounce: a geometric series.
+  const double h0 = 1.0, e = 0.5;
+  EXPECT_NEAR(ballRestTime(h0, e, g), 1.355, 5e-4);  // models/scenes/README.md
+  double t = std::sqrt(2 * h0 / g);
+  for (int k = 1; k < 200; ++k) t += 2 * std::pow(e, k) * std::sqrt(2 * h0 / g);
+  EXPECT_NEAR(ballRestTime(h0, e, g), t, 1e-12);
+  EXPECT_TRUE(std::isinf(ballRestTime(h0, 1.0, g)));
+  EXPECT_NEAR(ballRestTime(h0, 0.0, g), std::sqrt(2 * h0 / g), 1e-15);
+}
+
+TEST(Analytic, LevelSlideStops) {
+  // README: v0 = 2 m/s, μ = 0.3 stops after v0/(μg) = 0.680 s at v0²/(2μg) = 0.680 m.
+  const double v0 = 2.0, mu = 0.3;
+  EXPECT_TRUE(slideSticks(mu, 0));
+  EXPECT_DOUBLE_EQ(slideAcceleration(mu, 0, g), -mu * g);
+  EXPECT_NEAR(slideStopTime(v0, mu, 0, g), v0 / (mu * g), 1e-15);
+  EXPECT_NEAR(slideStopDistance(v0, mu, 0, g), v0 * v0 / (2 * mu * g), 1e-15);
+  EXPECT_NEAR(slideStopDistance(v0, mu, 0, g), 0.6796, 1e-4);
+  // facts.md §5: μ = 0.37, v0 = 2.3 m/s stops at 0.72871 m.
+  EXPECT_NEAR(slideStopDistance(2.3, 0.37, 0, g), 0.72871, 1e-5);
+}
+
+TEST(Analytic, SlidePositionFollowsTheParabolaThenStays) {
+  const double v0 = 2.0, mu = 0.5, alpha = 0.2;  // tan α = 0.203 < μ: decelerates and sticks
+  const double a = slideAcceleration(mu, alpha, g), t_stop = slideStopTime(v0, mu, alpha, g);
+  ASSERT_LT(a, 0);
+  EXPECT_NEAR(slideStopDistance(v0, mu, alpha, g), v0 * v0 / (2 * g * (mu * std::cos(alpha) - std::sin(alpha))), 1e-15);
+  EXPECT_NEAR(slidePosition(v0, mu, alpha, g, 0.5 * t_stop), v0 * 0.5 * t_stop + 0.5 * a * 0.25 * t_stop * t_stop, 1e-14);
+  EXPECT_NEAR(slidePosition(v0, mu, alpha, g, t_stop), slideStopDistance(v0, mu, alpha, g), 1e-14);
+  EXPECT_DOUBLE_EQ(slidePosition(v0, mu, alpha, g, 10 * t_stop), slideStopDistance(v0, mu, alpha, g));
+  EXPECT_DOUBLE_EQ(slidePosition(v0, mu, alpha, g, 0), 0);
+}
+
+TEST(Analytic, SteepSlideAccelerates) {
+  const double v0 = 1.0, mu = 0.3, alpha = 0.5;  // tan α = 0.546 > μ
+  EXPECT_FALSE(slideSticks(mu, alpha));
+  const double a = slideAcceleration(mu, alpha, g);
+  EXPECT_NEAR(a, g * (std::sin(alpha) - mu * std::cos(alpha)), 1e-15);
+  EXPECT_GT(a, 0);
+  EXPECT_TRUE(std::isinf(slideStopTime(v0, mu, alpha, g)));
+  EXPECT_TRUE(std::isinf(slideStopDistance(v0, mu, alpha, g)));
+  for (double t : {0.1, 1.0, 3.0}) EXPECT_NEAR(slidePosition(v0, mu, alpha, g, t), v0 * t + 0.5 * a * t * t, 1e-12);
+  // tan α = μ exactly: a = 0 (up to round-off), constant speed.
+  EXPECT_TRUE(slideSticks(std::tan(0.3), 0.3));
+  EXPECT_NEAR(slidePosition(v0, std::tan(0.3), 0.3, g, 2.0), 2.0 * v0, 1e-12);
+}
+
+// Samples of an exact bouncing ball: heights at t = i dt, impulse > 0 at the sample just after
+// each impact.
+void exactBounces(double h0, double e, double dt, double duration, std::vector<double>& z, std::vector<double>& pn) {
+  z.clear();
+  pn.clear();
+  const double t1 = std::sqrt(2 * h0 / g);
+  for (int i = 0; i * dt <= duration; ++i) {
+    const double t = i * dt;
+    double zi, impulse = 0;
+    if (t < t1) {
+      zi = h0 - 0.5 * g * t * t;
+    } else {
+      // after the k-th impact: flights of length 2 e^k t1
+      double start = t1, flight = 2 * e * t1, v = e * g * t1;
+      int k = 1;
+      while (t >= start + flight && k < 50) start += flight, flight *= e, v *= e, ++k;
+      const double s = t - start;
+      zi = v * s - 0.5 * g * s * s;
+      if (s < dt) impulse = 1;  // the step that ended here contained impact k
+    }
+    z.push_back(zi);
+    pn.push_back(impulse);
+  }
+}
+
+TEST(Analytic, FirstApexOfAnExactTrajectory) {
+  std::vector<double> z, pn;
+  exactBounces(1.0, 0.5, 1e-4, 2.0, z, pn);
+  EXPECT_NEAR(firstApex(z, pn), 0.25, 1e-6);
+  exactBounces(1.0, 0.8, 1e-3, 3.0, z, pn);
+  EXPECT_NEAR(firstApex(z, pn), 0.64, 1e-5);
+}
+
+TEST(Analytic, FirstApexEdgeCases) {
+  // No impact: NaN.
+  EXPECT_TRUE(std::isnan(firstApex({1.0, 0.9, 0.5}, {0, 0, 0})));
+  EXPECT_TRUE(std::isnan(firstApex({}, {})));
+  // An impact spread over two samples, then flight, then the second impact: the apex is the
+  // highest sample in between, not the start height and not after the second impact.
+  EXPECT_DOUBLE_EQ(firstApex({1.0, 0.0, 0.0, 0.1, 0.3, 0.2, 0.0, 0.05, 0.9}, {0, 1, 2, 0, 0, 0, 3, 0, 0}), 0.3);
+  // No second impact: up to the end.
+  EXPECT_DOUBLE_EQ(firstApex({1.0, 0.0, 0.2, 0.4}, {0, 1, 0, 0}), 0.4);
+  EXPECT_THROW(firstApex({1.0}, {}), std::invalid_argument);
+}
+
+TEST(Analytic, StepperOnTheBuiltInBallDropScene) {
+  const Scene scene = loadScene("ball_drop", {{"restitution", 0.5}});
+  StepperOptions o;
+  o.dt = 1e-4;
+  TimeStepper sim(scene, o);
+  std::vector<double> z{sim.q()[0]}, pn{0};
+  while (sim.time() < 1.2) {
+    sim.step();
+    z.push_back(sim.q()[0]);
+    pn.push_back(sim.contacts()[0].pn);
+  }
+  EXPECT_NEAR(firstApex(z, pn), ballApex(scene.parameters.at("height"), 0.5, 1), 2e-3);
+}
+
+}  // namespace
+}  // namespace saltus::timestepper::analytic
