@@ -8,6 +8,7 @@
 
 #include "dynamics/aba.hpp"
 #include "tests/support/heap_counter.hpp"
+#include "tests/support/pendulum.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace saltus::timestepper {
@@ -288,6 +289,47 @@ TEST(Stepper, ElasticBallDoesNotGainEnergy) {
     EXPECT_LE(E_max, E0 * (1 + 1e-12)) << "dt = " << dt;
     // θ = 1 dissipates ½ g² dt² per step in free flight; at dt = 1e-3 that is little.
     if (dt == 1e-3) EXPECT_GT(sim.energy(), 0.98 * E0);
+  }
+}
+
+}  // namespace
+}  // namespace saltus::timestepper
+
+namespace saltus::timestepper {
+namespace {
+
+// A pendulum swung against its upper joint limit: the stop holds it there (no excursion past the
+// limit beyond the tolerance), rebounds with the stop's restitution and reports its impulse.
+TEST(Stepper, JointLimitStopHoldsAndRebounds) {
+  for (double e : {0.0, 0.5}) {
+    Scene scene;
+    scene.name = "pendulum_stop";
+    scene.model = testing::pendulumModel({1.0}, {0.5});
+    scene.model.gravity.setZero();  // constant speed until the stop
+    LimitStop stop;
+    stop.name = "joint1_upper";
+    stop.coordinate = 0;
+    stop.upper = true;
+    stop.limit = 0.3;
+    stop.restitution = e;
+    scene.limits.push_back(stop);
+    scene.q0 = Eigen::VectorXd::Zero(1);
+    scene.v0 = Eigen::VectorXd::Constant(1, 2.0);
+    TimeStepper sim(scene, options(1e-4, 1.0));
+    double max_q = 0, impulse = 0;
+    while (sim.time() < 0.5) {
+      sim.step();
+      max_q = std::max(max_q, sim.q()[0]);
+      impulse = std::max(impulse, sim.contacts()[0].pn);
+    }
+    EXPECT_LE(max_q, 0.3 + 1e-9) << "e = " << e;
+    EXPECT_GT(impulse, 0.0) << "e = " << e;
+    if (e == 0.0) {
+      EXPECT_NEAR(sim.q()[0], 0.3, 1e-6);  // stays against the stop
+    } else {
+      EXPECT_NEAR(sim.v()[0], -e * 2.0, 1e-9);  // Newton's law at the stop: v⁺ = −e v⁻
+      EXPECT_LT(sim.q()[0], 0.3 - 0.1);         // moving away from it
+    }
   }
 }
 
