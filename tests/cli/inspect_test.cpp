@@ -14,53 +14,18 @@
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
+
+#include "tests/support/run_saltus.hpp"
 #include <nlohmann/json.hpp>
 
 namespace {
 
 const std::string kPendulum = SALTUS_SOURCE_DIR "/models/pendulum/double_pendulum.urdf";
 
-struct Result {
-  int status = -1;  // exit code, −1 when killed by a signal
-  std::string out, err;
-};
+using Result = saltus::testing::RunResult;
+using saltus::testing::readFile;
 
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string readFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Runs `saltus ARGS...` with stdout captured through a pipe and stderr through a file.
-Result saltus(const std::vector<std::string>& args) {
-  const std::filesystem::path err_path =
-      std::filesystem::temp_directory_path() / ("saltus_cli_test_" + std::to_string(::getpid()) + ".stderr");
-  std::string cmd = shellQuote(SALTUS_BINARY);
-  // Appended piece by piece: "literal" + std::string&& trips a false -Wrestrict in GCC 12.
-  for (const auto& a : args) {
-    cmd += ' ';
-    cmd += shellQuote(a);
-  }
-  cmd += " </dev/null 2>";
-  cmd += shellQuote(err_path.string());
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.out.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = readFile(err_path);
-  std::filesystem::remove(err_path);
-  return r;
-}
+using saltus::testing::runSaltus;
 
 std::string csv(const Eigen::Vector2d& x) {
   std::ostringstream s;
@@ -111,7 +76,7 @@ Eigen::Vector2d closedFormCoriolis(const Eigen::Vector2d& q, const Eigen::Vector
 nlohmann::json inspectJson(const std::vector<std::string>& extra) {
   std::vector<std::string> args{"inspect", kPendulum, "--json"};
   args.insert(args.end(), extra.begin(), extra.end());
-  const Result r = saltus(args);
+  const Result r = runSaltus(args);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err, "");
   return nlohmann::json::parse(r.out);
@@ -186,7 +151,7 @@ TEST(Inspect, FreeBaseAddsSixCoordinates) {
   // HyQ on a free base: 6 base coordinates, then its 12 joints; at rest with zero base angles
   // the whole robot rides on base_x, so M(0, 0) is its mass, and gravity loads base_z.
   const std::string hyq = SALTUS_SOURCE_DIR "/models/benchmark/hyq.urdf";
-  const Result r = saltus({"inspect", hyq, "--json", "--base", "free", "--q=0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0"});
+  const Result r = runSaltus({"inspect", hyq, "--json", "--base", "free", "--q=0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0"});
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const auto& names = j.at("coordinates");
@@ -202,14 +167,14 @@ TEST(Inspect, FreeBaseAddsSixCoordinates) {
 
 TEST(Inspect, FloatingBaseNeedsAMassiveRoot) {
   // The pendulum's root link is the massless 'world': it cannot be a floating base.
-  const Result r = saltus({"inspect", kPendulum, "--base=planar"});
+  const Result r = runSaltus({"inspect", kPendulum, "--base=planar"});
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.out, "");
   EXPECT_NE(r.err.find("world"), std::string::npos) << r.err;
 }
 
 TEST(Inspect, ReadableSummary) {
-  const Result r = saltus({"inspect", kPendulum});
+  const Result r = runSaltus({"inspect", kPendulum});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err, "");
   for (const char* text : {"double_pendulum", "double_pendulum.urdf", "fixed", "link1", "link2", "theta1", "theta2",
@@ -219,7 +184,7 @@ TEST(Inspect, ReadableSummary) {
 
 // An error: exit code, message on stderr, nothing on stdout.
 void expectError(const std::vector<std::string>& args, int status, const std::string& message) {
-  const Result r = saltus(args);
+  const Result r = runSaltus(args);
   EXPECT_EQ(r.status, status) << r.err;
   EXPECT_EQ(r.out, "") << "stdout must stay empty on error";
   EXPECT_NE(r.err.find(message), std::string::npos) << "expected '" << message << "' in stderr:\n" << r.err;
@@ -268,7 +233,7 @@ TEST(InspectErrors, InvalidModelNamesFileAndElement) {
   <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
 </robot>)";
-  const Result r = saltus({"inspect", path.string(), "--json"});
+  const Result r = runSaltus({"inspect", path.string(), "--json"});
   std::filesystem::remove(path);
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.out, "");
@@ -277,10 +242,10 @@ TEST(InspectErrors, InvalidModelNamesFileAndElement) {
 }
 
 TEST(Saltus, HelpAndVersionGoToStdout) {
-  const Result help = saltus({"inspect", "--help"});
+  const Result help = runSaltus({"inspect", "--help"});
   EXPECT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("--tau"), std::string::npos) << help.out;
-  const Result version = saltus({"--version"});
+  const Result version = runSaltus({"--version"});
   EXPECT_EQ(version.status, 0);
   EXPECT_EQ(version.out.rfind("saltus ", 0), 0u) << version.out;
 }

@@ -17,51 +17,16 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/run_saltus.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;  // exit code, −1 when killed by a signal
-  std::string out, err;
-};
+using Result = saltus::testing::RunResult;
+using saltus::testing::readFile;
 
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Runs `[ENV] saltus ARGS...` with stdout captured through a pipe and stderr through a file.
-Result saltus(const std::vector<std::string>& args, const std::string& env = "") {
-  const fs::path err_path = fs::temp_directory_path() / ("saltus_sim_test_" + std::to_string(::getpid()) + ".stderr");
-  std::string cmd = env;
-  if (!cmd.empty()) cmd += ' ';
-  cmd += shellQuote(SALTUS_BINARY);
-  for (const auto& a : args) {
-    cmd += ' ';
-    cmd += shellQuote(a);
-  }
-  cmd += " </dev/null 2>";
-  cmd += shellQuote(err_path.string());
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.out.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = readFile(err_path);
-  fs::remove(err_path);
-  return r;
-}
+using saltus::testing::runSaltus;
 
 // A fresh, empty folder per test, removed afterwards.
 class TempDir {
@@ -153,7 +118,7 @@ const std::vector<std::string> kBallDropHeader = {"t",  "q.z", "v.z", "contact.b
 TEST(Simulate, BallDropCsvAndFirstApex) {
   const TempDir dir("apex");
   const std::string out = dir / "traj.csv";
-  const Result r = saltus({"simulate", "ball_drop", "--dt", "1e-4", "--set", "restitution=0.5", "--duration", "1.2",
+  const Result r = runSaltus({"simulate", "ball_drop", "--dt", "1e-4", "--set", "restitution=0.5", "--duration", "1.2",
                            "--out", out});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "") << "the summary goes to stderr";
@@ -175,7 +140,7 @@ TEST(Simulate, BallDropCsvAndFirstApex) {
 
 TEST(Simulate, SetChangesTheInitialRow) {
   const TempDir dir("set");
-  const Result r = saltus({"simulate", "ball_drop", "--set", "height=2", "--duration", "0.01", "--out", dir / "t.csv"});
+  const Result r = runSaltus({"simulate", "ball_drop", "--set", "height=2", "--duration", "0.01", "--out", dir / "t.csv"});
   ASSERT_EQ(r.status, 0) << r.err;
   const Csv csv = readCsv(dir / "t.csv");
   ASSERT_EQ(csv.rows.size(), 11u);
@@ -185,7 +150,7 @@ TEST(Simulate, SetChangesTheInitialRow) {
 
 TEST(Simulate, DurationDefaultsToTheScenes) {
   const TempDir dir("duration");
-  const Result r = saltus({"simulate", "pendulum_conveyor", "--dt", "1e-2", "--out", dir / "t.csv"});
+  const Result r = runSaltus({"simulate", "pendulum_conveyor", "--dt", "1e-2", "--out", dir / "t.csv"});
   ASSERT_EQ(r.status, 0) << r.err;
   const Csv csv = readCsv(dir / "t.csv");
   ASSERT_EQ(csv.rows.size(), 51u) << "pendulum_conveyor: duration 0.5 s";
@@ -196,7 +161,7 @@ TEST(Simulate, DurationDefaultsToTheScenes) {
 
 TEST(Simulate, PgsSolverOnBallDrop) {
   const TempDir dir("pgs");
-  const Result r = saltus({"simulate", "ball_drop", "--solver", "pgs", "--dt", "1e-3", "--duration", "1.2", "--out",
+  const Result r = runSaltus({"simulate", "ball_drop", "--solver", "pgs", "--dt", "1e-3", "--duration", "1.2", "--out",
                            dir / "t.csv"});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("pgs"), std::string::npos) << r.err;
@@ -208,7 +173,7 @@ TEST(Simulate, PgsSolverOnBallDrop) {
 // An error: exit code, message on stderr, nothing on stdout, nothing left in the folder.
 void expectError(const TempDir& dir, std::vector<std::string> args, int status, const std::vector<std::string>& texts,
                  const std::string& env = "") {
-  const Result r = saltus(args, env);
+  const Result r = runSaltus(args, env);
   EXPECT_EQ(r.status, status) << r.err;
   EXPECT_EQ(r.out, "") << "stdout must stay empty on error";
   EXPECT_EQ(r.err.rfind("saltus: ", 0), 0u) << r.err;
@@ -246,7 +211,7 @@ TEST(SimulateErrors, SimulationErrorLeavesNoFile) {
 
 TEST(BenchWorkPrecision, BallDropErrorsFallWithDtAndChartsExist) {
   const TempDir dir("wp");
-  const Result r = saltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2,5e-3,2e-3", "--min-time", "0",
+  const Result r = runSaltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2,5e-3,2e-3", "--min-time", "0",
                            "--out", dir.path().string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
@@ -275,7 +240,7 @@ TEST(BenchWorkPrecision, BallDropErrorsFallWithDtAndChartsExist) {
 
 TEST(BenchStability, BallDropTinyGrid) {
   const TempDir dir("stab");
-  const Result r = saltus({"bench", "stability", "ball_drop", "--dts", "1e-2,1e-1", "--restitutions", "0.5,1",
+  const Result r = runSaltus({"bench", "stability", "ball_drop", "--dts", "1e-2,1e-1", "--restitutions", "0.5,1",
                            "--out", dir.path().string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
@@ -311,7 +276,7 @@ TEST(BenchStability, BallDropTinyGrid) {
 
 TEST(BenchErrors, ChartFailureIsReportedAndTheCsvStays) {
   const TempDir dir("chartfail");
-  const Result r = saltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2", "--min-time", "0", "--out",
+  const Result r = runSaltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2", "--min-time", "0", "--out",
                            dir.path().string()},
                           "SALTUS_PYTHON=/nonexistent/python3");
   EXPECT_EQ(r.status, 1);
