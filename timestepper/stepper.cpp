@@ -31,7 +31,7 @@ Eigen::Vector3d frictionDirection(const Eigen::Matrix<double, 3, 2>& T, int j, i
 }  // namespace
 
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
-    : scene_(scene), options_(options), data_(scene_.model), solver_(0) {
+    : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
   const int nv = scene_.model.nv();
   const int nc = static_cast<int>(scene_.contacts.size());
   const int nl = static_cast<int>(scene_.limits.size());
@@ -51,7 +51,6 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   v_free_.resize(nv);
   rhs_.resize(nv);
   tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
   for (const Surface& s : scene_.surfaces) tangents_.push_back(makeTangentBasis(s.normal));
   J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
