@@ -23,7 +23,7 @@ inline void randomInertia(std::mt19937& rng, double& mass, Eigen::Vector3d& com,
 }
 
 // A random tree of n moving joints (revolute, continuous or prismatic, random axes, about one
-// in five fixed joints merged in) on the given base.
+// in ten fixed joints merged in) on the given base.
 inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
   using namespace dynamics;
   std::uniform_real_distribution<double> u(-1.0, 1.0);
