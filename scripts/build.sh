@@ -19,6 +19,12 @@ case "$mode" in
   *) echo "usage: scripts/build.sh [release|asan] [TARGET...]" >&2; exit 2 ;;
 esac
 
+# ccache (scripts/packages.txt) keeps compiled objects between builds and clean clones on the same
+# machine; a first build on a new machine costs the same as without it.
+if command -v ccache >/dev/null 2>&1; then
+  flags+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+
 echo "build: $mode -> ${dir#"$root"/}"
 cmake -S "$root" -B "$dir" "${flags[@]}"
 cmake --build "$dir" -j"$(nproc)" "${targets[@]}"
