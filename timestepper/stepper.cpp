@@ -52,6 +52,11 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   rhs_.resize(nv);
   tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
   for (const Surface& s : scene_.surfaces) tangents_.push_back(makeTangentBasis(s.normal));
+  for (const Contact& c : scene_.contacts) {  // the cone's directions are constant: once, here
+    Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, c.directions);
+    for (int j = 0; j < c.directions; ++j) d.col(j) = frictionDirection(tangents_[c.surface], j, c.directions);
+    directions_.push_back(d);
+  }
   J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
   active_gap_.reserve(m_max);
@@ -130,7 +135,7 @@ void TimeStepper::buildRows(double t_next) {
     const Contact& contact = scene_.contacts[c];
     const Eigen::Vector3d v_surface = scene_.surfaces[contact.surface].velocity(t_next);
     for (int j = 0; j < contact.directions; ++j) {
-      const Eigen::Vector3d d = frictionDirection(tangents_[contact.surface], j, contact.directions);
+      const auto d = directions_[c].col(j);
       D_.row(f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
@@ -322,8 +327,7 @@ void TimeStepper::step() {
       if (c >= nc) continue;
       const Contact& contact = scene_.contacts[c];
       Eigen::Vector3d pt = Eigen::Vector3d::Zero();
-      for (int j = 0; j < contact.directions; ++j)
-        pt += z_[fr++] * frictionDirection(tangents_[contact.surface], j, contact.directions);
+      for (int j = 0; j < contact.directions; ++j) pt += z_[fr++] * directions_[c].col(j);
       reports_[c].pt1 = pt.dot(tangents_[contact.surface].col(0));
       reports_[c].pt2 = pt.dot(tangents_[contact.surface].col(1));
     }

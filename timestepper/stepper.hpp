@@ -128,6 +128,7 @@ class TimeStepper {
   Eigen::VectorXd q_, v_, q_theta_, v_theta_, v_free_, rhs_, tau_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   std::vector<Eigen::Matrix<double, 3, 2>> tangents_;
+  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> directions_;  // per contact: its k cone directions
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per contact, 3 × nv
   // Active rows: normal rows first (contacts then limits), then the friction rows.
   std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
