@@ -25,13 +25,14 @@
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "timestepper/analytic.hpp"
-#include "timestepper/scenario.hpp"
+#include "scene/scenario.hpp"
 
 namespace saltus::cli {
 
 namespace {
 
 using namespace saltus::timestepper;
+using saltus::scene::loadScene;
 namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -11,7 +11,7 @@
 
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
-#include "timestepper/scenario.hpp"
+#include "scene/scenario.hpp"
 #include "timestepper/trajectory_csv.hpp"
 
 namespace saltus::cli {
@@ -19,6 +19,7 @@ namespace saltus::cli {
 namespace {
 
 using namespace saltus::timestepper;
+using saltus::scene::loadScene;
 
 struct SimulateOptions {
   std::string scene;

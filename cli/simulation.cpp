@@ -15,7 +15,7 @@
 #include <stdexcept>
 
 #include "cli/common.hpp"
-#include "timestepper/scenario.hpp"
+#include "scene/scenario.hpp"
 
 extern char** environ;
 
@@ -41,8 +41,8 @@ void checkStepOptions(const std::string& dt_option, double dt, double theta) {
 
 std::map<std::string, double> parseSetOptions(const std::vector<std::string>& assignments) {
   try {
-    return timestepper::parseOverrides(assignments);
-  } catch (const timestepper::ScenarioError& e) {
+    return scene::parseOverrides(assignments);
+  } catch (const scene::ScenarioError& e) {
     throw UsageError(e.what());  // the message starts with "--set '<item>'"
   }
 }

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "timestepper/scene.hpp"
+#include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 
 namespace saltus::cli {

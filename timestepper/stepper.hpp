@@ -49,9 +49,15 @@
 
 #include "dynamics/data.hpp"
 #include "timestepper/lcp.hpp"
-#include "timestepper/scene.hpp"
+#include "scene/scene.hpp"
 
 namespace saltus::timestepper {
+
+// The scene types the stepper reads (scene/scene.hpp).
+using scene::Contact;
+using scene::LimitStop;
+using scene::Scene;
+using scene::Surface;
 
 enum class LcpMethod { Lemke, Pgs };
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "timestepper/scene.hpp"
+#include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 
 namespace saltus::timestepper {

@@ -6,7 +6,7 @@
 
 #include "dynamics/builder.hpp"
 #include "dynamics/urdf.hpp"
-#include "timestepper/scene.hpp"
+#include "scene/scene.hpp"
 
 namespace saltus::testing {
 

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "timestepper/scenario.hpp"
+#include "scene/scenario.hpp"
 #include "timestepper/stepper.hpp"
 
 namespace saltus::timestepper::analytic {
@@ -127,7 +127,7 @@ TEST(Analytic, FirstApexEdgeCases) {
 }
 
 TEST(Analytic, StepperOnTheBuiltInBallDropScene) {
-  const Scene scene = loadScene("ball_drop", {{"restitution", 0.5}});
+  const Scene scene = scene::loadScene("ball_drop", {{"restitution", 0.5}});
   StepperOptions o;
   o.dt = 1e-4;
   TimeStepper sim(scene, o);

@@ -9,7 +9,7 @@
 
 #include "dynamics/model.hpp"
 
-namespace saltus::timestepper {
+namespace saltus::scene {
 
 // A plane {x : n·(x − p) = 0} whose material moves tangentially with a prescribed velocity
 // schedule (a conveyor belt): velocity(t) = the last step's value with time ≤ t, zero before the
@@ -70,4 +70,4 @@ struct Scene {
   std::map<std::string, double> parameters;  // the values used, after --set overrides
 };
 
-}  // namespace saltus::timestepper
+}  // namespace saltus::scene

@@ -1,8 +1,8 @@
-// Scenario files (timestepper/scenario.hpp): the built-in scenes against forward kinematics and
+// Scenario files (scene/scenario.hpp): the built-in scenes against forward kinematics and
 // their parameters, --set overrides, defaults, joint-limit stops, and one test per kind of bad
 // input (tests/data/scenes/), each checking that the message names the file, the line and the
 // key path.
-#include "timestepper/scenario.hpp"
+#include "scene/scenario.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 
-namespace saltus::timestepper {
+namespace saltus::scene {
 namespace {
 
 const std::string kSceneDir = std::string(SALTUS_SOURCE_DIR) + "/models/scenes/";
@@ -469,4 +469,4 @@ TEST(ScenarioErrors, TwoModels) {
 }
 
 }  // namespace
-}  // namespace saltus::timestepper
+}  // namespace saltus::scene

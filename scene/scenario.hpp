@@ -15,14 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "timestepper/scene.hpp"
+#include "scene/scene.hpp"
+#include "scene/yaml_reader.hpp"
 
-namespace saltus::timestepper {
+namespace saltus::scene {
 
-class ScenarioError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Loads a scenario by built-in name (models/scenes/<name>.yaml in the directory
 // scenesDirectory() returns) or by file path (anything containing '/' or ending in .yaml/.yml,
@@ -31,9 +28,9 @@ class ScenarioError : public std::runtime_error {
 // Scene::source is "builtin:<name>" for a built-in scene, else the path as given.
 Scene loadScene(const std::string& name_or_path, const std::map<std::string, double>& overrides = {});
 
-// Parses `--set` assignments "name=value"; value is a number or a constant expression (pi/4).
-// A later assignment to the same name wins. Throws ScenarioError naming the bad item.
-std::map<std::string, double> parseOverrides(const std::vector<std::string>& assignments);
+// Reads the scene keys of `root` with `reader` (whose parameters are already read), for files
+// that hold a scene among other keys (problem files): `extra_keys` are the other allowed keys.
+Scene readScene(YamlReader& reader, const YAML::Node& root, const std::vector<std::string>& extra_keys = {});
 
 // Names of the built-in scenes, sorted.
 std::vector<std::string> builtinSceneNames();
@@ -42,4 +39,4 @@ std::vector<std::string> builtinSceneNames();
 // <source tree>/models/scenes.
 std::string scenesDirectory();
 
-}  // namespace saltus::timestepper
+}  // namespace saltus::scene

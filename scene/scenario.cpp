@@ -1,0 +1,477 @@
+#include "scene/scenario.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iterator>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "dynamics/builder.hpp"
+#include "dynamics/data.hpp"
+#include "dynamics/kinematics.hpp"
+#include "dynamics/urdf.hpp"
+
+namespace saltus::scene {
+
+namespace fs = std::filesystem;
+using dynamics::BaseType;
+using dynamics::Model;
+
+namespace {
+
+// R = Rz(yaw) Ry(pitch) Rx(roll), the URDF rpy convention.
+Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// Reads the scene keys of a scenario (or problem) file through a YamlReader, which holds the
+// file's parameters.
+class Loader {
+ public:
+  explicit Loader(YamlReader& reader) : r_(reader) {}
+
+  Scene load(const YAML::Node& root, const std::vector<std::string>& extra_keys);
+
+ private:
+  Model<double> readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
+                          const YAML::Node& base_node);
+  Model<double> readPointMass(const YAML::Node& node, const std::string& path, BaseType base,
+                              const Eigen::Vector3d& gravity, const YAML::Node& base_node);
+  Model<double> readRigidBody(const YAML::Node& node, const std::string& path, BaseType base,
+                              const Eigen::Vector3d& gravity, const YAML::Node& base_node);
+  std::vector<dynamics::Visual> readVisuals(const YAML::Node& node, const std::string& path,
+                                            const std::string& link, int body);
+  Eigen::VectorXd readCoordinateMap(const YAML::Node& node, const std::string& path,
+                                    const Model<double>& model);
+  int coordinate(const YAML::Node& name_node, const std::string& path, const Model<double>& model) const;
+  std::vector<Surface> readSurfaces(const YAML::Node& node);
+  std::vector<Contact> readContacts(const YAML::Node& node, const Scene& scene);
+  std::vector<LimitStop> readLimits(const YAML::Node& root, const Model<double>& model);
+
+  YamlReader& r_;
+};
+
+
+std::vector<dynamics::Visual> Loader::readVisuals(const YAML::Node& node, const std::string& path,
+                                                  const std::string& link, int body) {
+  std::vector<dynamics::Visual> visuals;
+  if (!node.IsDefined()) return visuals;
+  r_.checkSequence(node, path);
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node v = node[i];
+    const std::string p = indexPath(path, i);
+    r_.checkMap(v, p, {"shape", "size", "xyz", "rpy", "rgba"});
+    dynamics::Visual vis;
+    vis.link = link;
+    vis.body = body;
+    const YAML::Node shape = r_.required(v, p, "shape"), size = r_.required(v, p, "size");
+    const std::string s = r_.text(shape, keyPath(p, "shape"));
+    if (s == "box") {
+      vis.shape = dynamics::Visual::Shape::Box;
+      vis.size = r_.vec3(size, keyPath(p, "size"));
+    } else if (s == "cylinder") {
+      vis.shape = dynamics::Visual::Shape::Cylinder;
+      const Eigen::VectorXd rl = r_.vector(size, keyPath(p, "size"), 2);
+      vis.size = Eigen::Vector3d(rl[0], rl[1], 0);
+    } else if (s == "sphere") {
+      vis.shape = dynamics::Visual::Shape::Sphere;
+      vis.size = Eigen::Vector3d(size.IsSequence() ? r_.vector(size, keyPath(p, "size"), 1)[0]
+                                                   : r_.number(size, keyPath(p, "size")),
+                                 0, 0);
+    } else {
+      r_.fail(shape, keyPath(p, "shape"), "unknown shape '" + s + "'; expected one of: box, cylinder, sphere");
+    }
+    if ((vis.size.array() < 0).any() || vis.size.isZero())
+      r_.fail(size, keyPath(p, "size"), "sizes must be positive, got " + fmt(vis.size));
+    vis.p_BG = r_.vec3(v, p, "xyz", Eigen::Vector3d::Zero());
+    vis.R_BG = rpyToMatrix(r_.vec3(v, p, "rpy", Eigen::Vector3d::Zero()));
+    if (v["rgba"].IsDefined()) vis.rgba = r_.vector(v["rgba"], keyPath(p, "rgba"), 4);
+    visuals.push_back(vis);
+  }
+  return visuals;
+}
+
+// A point mass on a chain of prismatic coordinates, one per axis (world axes), through massless
+// intermediate links named <link>_<coordinate>.
+Model<double> Loader::readPointMass(const YAML::Node& node, const std::string& path, BaseType base,
+                                    const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
+  r_.checkMap(node, path, {"mass", "axes", "link", "visuals"});
+  if (base != BaseType::Fixed)
+    r_.fail(base_node, "base", "a point_mass model moves along its own axes from the world: base must be fixed");
+  const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
+  if (!(mass > 0)) r_.fail(node["mass"], keyPath(path, "mass"), "mass must be positive, got " + fmt(mass));
+  const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : "mass";
+  if (link == "world") r_.fail(node["link"], keyPath(path, "link"), "'world' is the name of the fixed frame");
+  const YAML::Node axes = r_.required(node, path, "axes");
+  const std::string apath = keyPath(path, "axes");
+  r_.checkNameMap(axes, apath);
+  if (axes.size() == 0 || axes.size() > 3) r_.fail(axes, apath, "expected 1 to 3 coordinates (name: axis)");
+
+  dynamics::ModelBuilder b("point_mass");
+  b.setSource(r_.file());
+  b.addLink("world");
+  Eigen::Matrix3d span = Eigen::Matrix3d::Zero();
+  std::string parent = "world";
+  int i = 0;
+  for (auto it = axes.begin(); it != axes.end(); ++it, ++i) {
+    const std::string name = it->first.Scalar();
+    const std::string p = keyPath(apath, name);
+    const Eigen::Vector3d a = r_.vec3(it->second, p);
+    if (!(a.norm() > 1e-12)) r_.fail(it->second, p, "an axis must be a non-zero vector");
+    span.col(i) = a.normalized();
+    Eigen::FullPivLU<Eigen::Matrix3d> lu(span.leftCols(i + 1) * span.leftCols(i + 1).transpose());
+    if (lu.rank() < i + 1)
+      r_.fail(it->second, p, "axis " + fmt(a) + " is a combination of the previous axes (the mass matrix would be singular)");
+    const bool last = i + 1 == static_cast<int>(axes.size());
+    const std::string child = last ? link : link + "_" + name;
+    if (last)
+      b.addLink(link, mass, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
+    else
+      b.addLink(child);
+    dynamics::JointSpec j;
+    j.name = name;
+    j.type = dynamics::LinkJointType::Prismatic;
+    j.parent = parent;
+    j.child = child;
+    j.axis = span.col(i);
+    b.addJoint(j);
+    parent = child;
+  }
+  for (dynamics::Visual v : readVisuals(node["visuals"], keyPath(path, "visuals"), link, -1)) b.addVisual(link, v);
+  try {
+    return b.build(BaseType::Fixed, gravity);
+  } catch (const dynamics::ModelError& e) {  // e.g. a link name clashing with an intermediate link
+    r_.fail(node, path, e.what());
+  }
+}
+
+Model<double> Loader::readRigidBody(const YAML::Node& node, const std::string& path, BaseType base,
+                                    const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
+  r_.checkMap(node, path, {"mass", "com", "inertia", "link", "visuals"});
+  if (base == BaseType::Fixed)
+    r_.fail(base_node.IsDefined() ? base_node : node, "base",
+         "a rigid_body model needs a moving base: base must be planar or free");
+  const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
+  const Eigen::Vector3d com = r_.vec3(node, path, "com", Eigen::Vector3d::Zero());
+  const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : "body";
+  const YAML::Node in = r_.required(node, path, "inertia");
+  const std::string ipath = keyPath(path, "inertia");
+  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+  if (in.IsSequence() && in.size() == 3 && in[0].IsScalar()) {
+    I.diagonal() = r_.vec3(in, ipath);
+  } else if (in.IsSequence() && in.size() == 3) {
+    for (int r = 0; r < 3; ++r) I.row(r) = r_.vec3(in[r], indexPath(ipath, r)).transpose();
+  } else {
+    r_.fail(in, ipath, "expected the principal moments [Ixx, Iyy, Izz] or a 3x3 matrix [[...], [...], [...]], got " +
+                        (in.IsSequence() ? "a sequence of " + std::to_string(in.size()) : describe(in)));
+  }
+  const std::string why = dynamics::checkInertia(mass, I, false);
+  if (!why.empty()) r_.fail(in, ipath, why);
+  dynamics::ModelBuilder b("rigid_body");
+  b.setSource(r_.file());
+  b.addLink(link, mass, com, I);
+  for (dynamics::Visual v : readVisuals(node["visuals"], keyPath(path, "visuals"), link, -1))
+    b.addVisual(link, v);
+  try {
+    return b.build(base, gravity);
+  } catch (const dynamics::ModelError& e) {
+    r_.fail(node, path, e.what());
+  }
+}
+
+Model<double> Loader::readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
+                                const YAML::Node& base_node) {
+  r_.checkMap(node, "model", {"urdf", "point_mass", "rigid_body"});
+  if (node.size() == 0) r_.fail(node, "model", "expected exactly one of: urdf, point_mass, rigid_body");
+  if (node.size() > 1) {
+    auto second = std::next(node.begin());
+    r_.fail(second->first, keyPath("model", second->first.Scalar()),
+         "expected exactly one of: urdf, point_mass, rigid_body ('" + node.begin()->first.Scalar() +
+             "' is already given)");
+  }
+  if (node["point_mass"].IsDefined())
+    return readPointMass(node["point_mass"], "model.point_mass", base, gravity, base_node);
+  if (node["rigid_body"].IsDefined())
+    return readRigidBody(node["rigid_body"], "model.rigid_body", base, gravity, base_node);
+  const YAML::Node u = node["urdf"];
+  fs::path urdf = r_.text(u, "model.urdf");
+  if (urdf.is_relative()) urdf = fs::path(r_.file()).parent_path() / urdf;
+  try {
+    return dynamics::readUrdfFile(urdf.lexically_normal().string()).build(base, gravity);
+  } catch (const dynamics::ModelError& e) {
+    r_.fail(u, "model.urdf", e.what());
+  }
+}
+
+int Loader::coordinate(const YAML::Node& name_node, const std::string& path, const Model<double>& model) const {
+  const std::string name = r_.text(name_node, path);
+  const int i = model.coordinateIndex(name);
+  if (i < 0)
+    r_.fail(name_node, path, "unknown coordinate '" + name + "'" + suggestion(name, model.coordinate_name) +
+                              "; the model's coordinates are: " + joinNames(model.coordinate_name));
+  return i;
+}
+
+Eigen::VectorXd Loader::readCoordinateMap(const YAML::Node& node, const std::string& path,
+                                          const Model<double>& model) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.nv());
+  if (!node.IsDefined()) return x;
+  r_.checkNameMap(node, path);
+  if (node.IsNull()) return x;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string p = keyPath(path, it->first.Scalar());
+    x[coordinate(it->first, p, model)] = r_.number(it->second, p);
+  }
+  return x;
+}
+
+std::vector<Surface> Loader::readSurfaces(const YAML::Node& node) {
+  std::vector<Surface> surfaces;
+  if (!node.IsDefined()) return surfaces;
+  r_.checkSequence(node, "surfaces");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node s = node[i];
+    const std::string p = indexPath("surfaces", i);
+    r_.checkMap(s, p, {"name", "point", "normal", "velocity_schedule"});
+    Surface surf;
+    surf.name = r_.text(r_.required(s, p, "name"), keyPath(p, "name"));
+    for (const Surface& other : surfaces)
+      if (other.name == surf.name) r_.fail(s["name"], keyPath(p, "name"), "surface '" + surf.name + "' is defined twice");
+    surf.point = r_.vec3(s, p, "point", Eigen::Vector3d::Zero());
+    const Eigen::Vector3d n = r_.vec3(s, p, "normal", Eigen::Vector3d::UnitZ());
+    if (!(n.norm() > 1e-12)) r_.fail(s["normal"], keyPath(p, "normal"), "the normal must be a non-zero vector, got " + fmt(n));
+    surf.normal = n.normalized();
+    const YAML::Node sched = s["velocity_schedule"];
+    const std::string sp = keyPath(p, "velocity_schedule");
+    if (sched.IsDefined()) {
+      r_.checkSequence(sched, sp);
+      for (std::size_t j = 0; j < sched.size(); ++j) {
+        const YAML::Node st = sched[j];
+        const std::string stp = indexPath(sp, j);
+        r_.checkMap(st, stp, {"time", "velocity"});
+        Surface::Step step;
+        step.time = r_.number(r_.required(st, stp, "time"), keyPath(stp, "time"));
+        step.velocity = r_.vec3(r_.required(st, stp, "velocity"), keyPath(stp, "velocity"));
+        if (!surf.velocity_schedule.empty() && !(step.time > surf.velocity_schedule.back().time))
+          r_.fail(st["time"], keyPath(stp, "time"),
+               "times must increase along the schedule: " + fmt(step.time) + " follows " +
+                   fmt(surf.velocity_schedule.back().time));
+        const double vn = surf.normal.dot(step.velocity);
+        if (std::abs(vn) > 1e-9 * std::max(1.0, step.velocity.norm()))
+          r_.fail(st["velocity"], keyPath(stp, "velocity"),
+               "the surface velocity " + fmt(step.velocity) + " must be tangent to the plane (normal " +
+                   fmt(surf.normal) + "): its normal component is " + fmt(vn) + " m/s");
+        surf.velocity_schedule.push_back(step);
+      }
+    }
+    surfaces.push_back(surf);
+  }
+  return surfaces;
+}
+
+// Whether every point of the model moves in planes y = const: a planar base, or only revolute
+// joints about world y and prismatic joints perpendicular to it (at q = 0, which rotations about
+// y preserve).
+bool isPlanar(const Model<double>& model) {
+  if (model.base == BaseType::Planar) return true;
+  if (model.base == BaseType::Free) return false;
+  dynamics::Data<double> data(model);
+  const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nv());
+  dynamics::forwardKinematics(model, data, q);
+  for (int i = 0; i < model.nv(); ++i) {
+    const Eigen::Vector3d a = dynamics::bodyRotation(data, i) * model.axis[i];
+    const bool ok = model.joint_type[i] == dynamics::JointType::Revolute ? a.cross(Eigen::Vector3d::UnitY()).norm() < 1e-12
+                                                                         : std::abs(a.y()) < 1e-12;
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& scene) {
+  std::vector<Contact> contacts;
+  if (!node.IsDefined()) return contacts;
+  r_.checkSequence(node, "contacts");
+  const bool planar = isPlanar(scene.model);
+  std::vector<std::string> surface_names, frame_names;
+  for (const Surface& s : scene.surfaces) surface_names.push_back(s.name);
+  for (const dynamics::Frame& f : scene.model.frames) frame_names.push_back(f.name);
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node c = node[i];
+    const std::string p = indexPath("contacts", i);
+    r_.checkMap(c, p, {"name", "link", "point", "surface", "restitution", "friction", "directions"});
+    Contact ct;
+    const YAML::Node link = r_.required(c, p, "link");
+    ct.link = r_.text(link, keyPath(p, "link"));
+    ct.name = c["name"].IsDefined() ? r_.text(c["name"], keyPath(p, "name")) : ct.link;
+    for (const Contact& other : contacts)
+      if (other.name == ct.name)
+        r_.fail(c["name"].IsDefined() ? c["name"] : c, keyPath(p, "name"),
+             "contact name '" + ct.name + "' is used twice (give each contact a distinct name)");
+    const int f = scene.model.frameIndex(ct.link);
+    if (f < 0)
+      r_.fail(link, keyPath(p, "link"), "unknown link '" + ct.link + "'" + suggestion(ct.link, frame_names) +
+                                          "; the model's links are: " + joinNames(frame_names));
+    const dynamics::Frame& frame = scene.model.frames[f];
+    if (frame.body < 0) r_.fail(link, keyPath(p, "link"), "link '" + ct.link + "' is fixed to the world and cannot touch a surface");
+    ct.body = frame.body;
+    const Eigen::Vector3d point = r_.vec3(c, p, "point", Eigen::Vector3d::Zero());
+    ct.p_B = frame.R_BF * point + frame.p_BF;
+    const YAML::Node surf = r_.required(c, p, "surface");
+    const std::string sname = r_.text(surf, keyPath(p, "surface"));
+    const auto s = std::find(surface_names.begin(), surface_names.end(), sname);
+    if (s == surface_names.end())
+      r_.fail(surf, keyPath(p, "surface"), "unknown surface '" + sname + "'" + suggestion(sname, surface_names) +
+                                            "; the scene's surfaces are: " + joinNames(surface_names));
+    ct.surface = static_cast<int>(s - surface_names.begin());
+    ct.restitution = r_.number(c, p, "restitution", 0.0);
+    if (!(ct.restitution >= 0 && ct.restitution <= 1))
+      r_.fail(c["restitution"], keyPath(p, "restitution"), "restitution must be in [0, 1], got " + fmt(ct.restitution));
+    ct.friction = r_.number(c, p, "friction", 0.0);
+    if (!(ct.friction >= 0))
+      r_.fail(c["friction"], keyPath(p, "friction"), "friction must be non-negative, got " + fmt(ct.friction));
+    if (c["directions"].IsDefined()) {
+      ct.directions = r_.integer(c["directions"], keyPath(p, "directions"));
+      if (ct.friction > 0 && ct.directions < 2)
+        r_.fail(c["directions"], keyPath(p, "directions"),
+             "a friction cone needs at least 2 directions (2 for planar motion, 4 or more in space), got " +
+                 std::to_string(ct.directions));
+      if (ct.directions < 0) r_.fail(c["directions"], keyPath(p, "directions"), "directions must be non-negative");
+    } else {
+      ct.directions = planar ? 2 : 4;
+    }
+    if (ct.friction == 0) ct.directions = 0;
+    contacts.push_back(ct);
+  }
+  return contacts;
+}
+
+std::vector<LimitStop> Loader::readLimits(const YAML::Node& root, const Model<double>& model) {
+  std::vector<LimitStop> stops;
+  const YAML::Node node = root["joint_limits"];
+  const double e = r_.number(root, "", "limit_restitution", 0.0);
+  if (!(e >= 0 && e <= 1))
+    r_.fail(root["limit_restitution"], "limit_restitution", "restitution must be in [0, 1], got " + fmt(e));
+  auto add = [&](int i) {
+    const dynamics::JointLimits& l = model.limits[i];
+    if (l.lower > -dynamics::kInf) stops.push_back({model.coordinate_name[i] + "_lower", i, false, l.lower, e});
+    if (l.upper < dynamics::kInf) stops.push_back({model.coordinate_name[i] + "_upper", i, true, l.upper, e});
+  };
+  if (!node.IsDefined()) return stops;
+  if (node.IsScalar()) {
+    if (r_.boolean(node, "joint_limits"))
+      for (int i = 0; i < model.nv(); ++i) add(i);
+    return stops;
+  }
+  if (!node.IsSequence())
+    r_.fail(node, "joint_limits", "expected true, false or a list of coordinate names, got " + describe(node));
+  std::set<int> seen;
+  for (std::size_t j = 0; j < node.size(); ++j) {
+    const std::string p = indexPath("joint_limits", j);
+    const int i = coordinate(node[j], p, model);
+    if (!model.limits[i].hasPositionLimits())
+      r_.fail(node[j], p, "coordinate '" + model.coordinate_name[i] + "' has no finite position limit");
+    if (!seen.insert(i).second) r_.fail(node[j], p, "coordinate '" + model.coordinate_name[i] + "' is listed twice");
+    add(i);
+  }
+  return stops;
+}
+
+Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra_keys) {
+  if (!root.IsMap()) r_.fail(root, "", "a scenario file must be a map of keys (name, model, surfaces, ...), got " + describe(root));
+  std::vector<std::string> keys = {"name", "description", "parameters", "model", "base", "gravity", "initial",
+                                   "input", "surfaces", "contacts", "joint_limits", "limit_restitution", "duration"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  r_.checkMap(root, "", keys);
+  Scene scene;
+  scene.name = root["name"].IsDefined() ? r_.text(root["name"], "name") : fs::path(r_.file()).stem().string();
+  scene.description = root["description"].IsDefined() ? r_.text(root["description"], "description") : "";
+  scene.parameters = r_.parameters();
+
+  BaseType base = BaseType::Fixed;
+  const YAML::Node base_node = root["base"];
+  if (base_node.IsDefined()) {
+    try {
+      base = dynamics::parseBaseType(r_.text(base_node, "base"));
+    } catch (const std::invalid_argument& e) {
+      r_.fail(base_node, "base", e.what());
+    }
+  }
+  const Eigen::Vector3d gravity = r_.vec3(root, "", "gravity", Eigen::Vector3d(0, 0, -9.81));
+  scene.model = readModel(r_.required(root, "", "model"), base, gravity, base_node);
+
+  const YAML::Node initial = root["initial"];
+  const bool has_initial = initial.IsDefined() && !initial.IsNull();
+  if (initial.IsDefined()) r_.checkMap(initial, "initial", {"q", "v"}, true);
+  scene.q0 = readCoordinateMap(has_initial ? initial["q"] : YAML::Node(), "initial.q", scene.model);
+  scene.v0 = readCoordinateMap(has_initial ? initial["v"] : YAML::Node(), "initial.v", scene.model);
+  scene.tau = readCoordinateMap(root["input"], "input", scene.model);
+
+  scene.surfaces = readSurfaces(root["surfaces"]);
+  scene.contacts = readContacts(root["contacts"], scene);
+  scene.limits = readLimits(root, scene.model);
+  scene.duration = r_.number(root, "", "duration", scene.duration);
+  if (!(scene.duration > 0)) r_.fail(root["duration"], "duration", "duration must be positive, got " + fmt(scene.duration));
+  return scene;
+}
+
+bool looksLikePath(const std::string& s) {
+  auto ends = [&](const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return s.find('/') != std::string::npos || ends(".yaml") || ends(".yml");
+}
+
+}  // namespace
+
+std::string scenesDirectory() {
+  if (const char* env = std::getenv("SALTUS_SCENES_DIR"); env && *env) return env;
+  return std::string(SALTUS_SOURCE_DIR) + "/models/scenes";
+}
+
+std::vector<std::string> builtinSceneNames() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(scenesDirectory(), ec))
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Scene loadScene(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
+  std::string path = name_or_path, source = name_or_path;
+  if (!looksLikePath(name_or_path)) {
+    const std::vector<std::string> names = builtinSceneNames();
+    if (std::find(names.begin(), names.end(), name_or_path) == names.end())
+      throw ScenarioError("unknown built-in scene '" + name_or_path + "'" + suggestion(name_or_path, names) +
+                          "; built-in scenes (" + scenesDirectory() + "): " + joinNames(names) +
+                          "; or give the path of a scenario file (.yaml)");
+    path = scenesDirectory() + "/" + name_or_path + ".yaml";
+    source = "builtin:" + name_or_path;
+  }
+  const YAML::Node root = loadYamlFile(path);
+  YamlReader reader(path, overrides);
+  if (root.IsMap()) reader.readParameters(root);
+  Scene scene = readScene(reader, root);
+  scene.source = source;
+  return scene;
+}
+
+Scene readScene(YamlReader& reader, const YAML::Node& root, const std::vector<std::string>& extra_keys) {
+  try {
+    return Loader(reader).load(root, extra_keys);
+  } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
+    throw ScenarioError(location(reader.file(), e.mark) + ": " + e.msg);
+  } catch (const dynamics::ModelError& e) {  // e.g. a builder model the checks above let through
+    throw ScenarioError(reader.file() + ": model: " + e.what());
+  }
+}
+
+}  // namespace saltus::scene
