@@ -1,0 +1,119 @@
+// A trajectory-optimisation problem through contact: the scene (model, surfaces, contacts,
+// joint-limit stops), the mesh of finite elements, the conditions and the cost. Read from a
+// problem file (problem_file.hpp, format in models/problems/README.md) or built in C++ for tasks
+// the format does not cover. The transcription (transcription.hpp) turns it into an NLP for one
+// of three methods.
+//
+// Indices are 0-based here: element n ∈ [0, N), point p ∈ [0, P + 1] where p = 0 and p = P + 1
+// are the element's mesh points and 1 … P its Legendre–Gauss collocation points (paper §II.C).
+// Problem files use the paper's 1-based elements: [6, 0] in a file is element 5, point 0 here.
+#pragma once
+
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "scene/scene.hpp"
+
+namespace saltus::collocation {
+
+enum class Method {
+  Impulsive,   // the paper's LG-P I: velocity jumps at element boundaries, eqs. (5), (6), (9)
+  Continuous,  // LG-P C: continuous velocity, contact only through (10)
+  FirstOrder   // Posa, Cantu & Tedrake 2014: backward Euler with complementarity at every step
+};
+const char* toString(Method m);
+Method parseMethod(const std::string& name);  // "impulsive", "continuous", "first-order"; throws std::invalid_argument
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// What a constraint or a bound applies to.
+struct Quantity {
+  enum class Kind { Position, Velocity, Input, Gap };
+  Kind kind = Kind::Position;
+  int index = 0;  // coordinate (Position, Velocity), input (Input) or contact (Gap: scene contacts, then limit stops)
+};
+
+// lower ≤ quantity ≤ upper at one point (or at every point when element < 0).
+struct PointBound {
+  Quantity quantity;
+  int element = -1;  // 0-based; −1: every element
+  int point = -1;    // 0 … P + 1; −1: every point of the element(s)
+  double lower = -kInf, upper = kInf;
+  std::string origin;  // where it was given (file:line), for messages
+};
+
+// A step of a surface's velocity at a mesh point [element, 0]: the surface moves with `velocity`
+// from that point on (the paper's belt steps at [6, 0]). With a variable element length the time
+// of a mesh point is not known in advance, so steps are placed on the mesh, not in time.
+struct SurfaceStep {
+  int element = 0;  // 0-based; the step acts from [element, 0] on
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+struct CostTerms {
+  // Weight of the complementarity penalty Σ ε in the task stage (the feasibility stage minimises
+  // Σ ε alone).
+  double penalty_weight = 1.0;
+  // Actuator effort: weight × ∫ Σ u_i² dt by the Gauss quadrature of each element.
+  double effort_weight = 0.0;
+  // Minimise the maximum of one coordinate over all points: weight × x_m with q_i[n, p] ≤ x_m.
+  int max_coordinate = -1;
+  double max_weight = 0.0;
+  bool hasTask() const { return effort_weight != 0.0 || (max_coordinate >= 0 && max_weight != 0.0); }
+};
+
+enum class SeedKind {
+  Null,       // zero everywhere, positions at the initial state, h = h_max (the paper's default vector)
+  Perturbed,  // null, plus uniform random values in [0, seed_scale] on positions and reactions
+  Solution    // an earlier solution (its trajectory.csv), perturbed by seed_scale
+};
+
+enum class TotalTime { Free, Equal, AtLeast };
+
+struct Problem {
+  std::string name;
+  std::string description;
+  std::string source;  // problem file, or "builtin:<name>"
+  scene::Scene scene;  // model, surfaces, contacts, limit stops; q0, v0 = the initial state
+
+  // Mesh (paper §II.C).
+  int N = 20;            // finite elements
+  int P = 4;             // Legendre–Gauss collocation points per element
+  double h_max = 0.02;   // element length bounds [h_min_ratio h_max, h_max]
+  double h_min_ratio = 0.1;
+  TotalTime total_time_kind = TotalTime::Free;
+  double total_time = 0;  // Σ h = T or Σ h ≥ T
+  int first_order_steps_per_element = 4;  // the first-order method gets this × N steps
+
+  std::vector<int> inputs;              // actuated coordinates (u_i acts on q_i)
+  Eigen::VectorXd input_lower, input_upper;  // per input; default ∓ the joint's effort limit
+
+  // Conditions. The initial state (scene.q0, scene.v0) is imposed at [0, 0] except for the
+  // coordinates listed free; everything else is a PointBound.
+  std::vector<int> initial_free_q, initial_free_v;
+  std::vector<PointBound> bounds;  // final conditions, task constraints, box bounds
+  std::vector<PointBound> hints;   // feasibility stage only (a seeding aid, paper §VI)
+  std::map<int, std::vector<SurfaceStep>> surface_steps;  // per surface index; empty: constant velocity
+
+  CostTerms cost;
+
+  // Solve.
+  double complementarity_tolerance = 1e-4;  // feasible when every product ≤ this (paper §III)
+  bool task_stage = true;                   // run the task stage when the cost has a task term
+  SeedKind seed_kind = SeedKind::Perturbed;
+  double seed_scale = 0.1;
+  unsigned random_seed = 1;
+  std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
+  bool exact_hessian = true;  // false: Ipopt's limited-memory quasi-Newton
+  bool derivative_check = false;  // Ipopt's derivative checker (second order) before solving
+  // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted
+  // to the option's registered type.
+  std::map<std::string, std::string> ipopt_options;
+  std::map<std::string, double> parameters;  // the named parameters in use (after --set)
+};
+
+}  // namespace saltus::collocation
