@@ -3,7 +3,9 @@
 // C++; read by the time-stepper (stepper.hpp), the collocation transcription and the renderer.
 #pragma once
 
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,27 @@ struct Surface {
     return v;
   }
   double gap(const Eigen::Vector3d& x) const { return normal.dot(x - point); }
+
+  // An orthonormal tangent basis (t1, t2): t1 is the world x axis (else y) projected onto the
+  // plane, t2 = n × t1. In a scene moving in the x–z plane with a horizontal surface, t1 = x.
+  Eigen::Matrix<double, 3, 2> tangents() const {
+    const Eigen::Vector3d a = std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d t1 = (a - a.dot(normal) * normal).normalized();
+    Eigen::Matrix<double, 3, 2> T;
+    T << t1, normal.cross(t1);
+    return T;
+  }
+  // The k unit directions of a polyhedral friction cone on this surface (paper eq. 11): ±t1 for
+  // k = 2, otherwise evenly spaced in the tangent plane starting at t1.
+  Eigen::Matrix3Xd coneDirections(int k) const {
+    const Eigen::Matrix<double, 3, 2> T = tangents();
+    Eigen::Matrix3Xd d(3, k);
+    for (int j = 0; j < k; ++j) {
+      const double angle = 2 * std::numbers::pi * j / k;
+      d.col(j) = std::cos(angle) * T.col(0) + std::sin(angle) * T.col(1);
+    }
+    return d;
+  }
 };
 
 // A point fixed on a body touching a surface (unilateral normal, Coulomb friction with a

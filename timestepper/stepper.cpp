@@ -11,25 +11,6 @@
 
 namespace saltus::timestepper {
 
-namespace {
-// t1: the world x axis (else y) projected onto the plane; t2 = n × t1. In a scene moving in
-// the x–z plane with a horizontal surface this makes t1 = x.
-Eigen::Matrix<double, 3, 2> makeTangentBasis(const Eigen::Vector3d& n) {
-  Eigen::Vector3d a = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d t1 = (a - a.dot(n) * n).normalized();
-  Eigen::Matrix<double, 3, 2> T;
-  T << t1, n.cross(t1);
-  return T;
-}
-
-// The k unit directions of the polyhedral cone (paper eq. 11): ±t1 for k = 2, otherwise evenly
-// spaced in the tangent plane starting at t1.
-Eigen::Vector3d frictionDirection(const Eigen::Matrix<double, 3, 2>& T, int j, int k) {
-  const double angle = 2 * M_PI * j / k;
-  return std::cos(angle) * T.col(0) + std::sin(angle) * T.col(1);
-}
-}  // namespace
-
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
   const int nv = scene_.model.nv();
@@ -51,12 +32,9 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   v_free_.resize(nv);
   rhs_.resize(nv);
   tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
-  for (const Surface& s : scene_.surfaces) tangents_.push_back(makeTangentBasis(s.normal));
-  for (const Contact& c : scene_.contacts) {  // the cone's directions are constant: once, here
-    Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, c.directions);
-    for (int j = 0; j < c.directions; ++j) d.col(j) = frictionDirection(tangents_[c.surface], j, c.directions);
-    directions_.push_back(d);
-  }
+  for (const Surface& s : scene_.surfaces) tangents_.push_back(s.tangents());
+  for (const Contact& c : scene_.contacts)  // the cone's directions are constant: once, here
+    directions_.push_back(scene_.surfaces[c.surface].coneDirections(c.directions));
   J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
   active_gap_.reserve(m_max);

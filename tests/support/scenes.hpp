@@ -1,4 +1,4 @@
-// Scenes built in C++ for the time-stepper tests, with no more coordinates than each needs.
+// Scenes built in C++ for the time-stepper and collocation tests, with no more coordinates than each needs.
 #pragma once
 
 #include <cmath>
@@ -10,19 +10,19 @@
 
 namespace saltus::testing {
 
-inline timestepper::Surface plane(const std::string& name, const Eigen::Vector3d& normal = Eigen::Vector3d::UnitZ(),
+inline scene::Surface plane(const std::string& name, const Eigen::Vector3d& normal = Eigen::Vector3d::UnitZ(),
                                   const Eigen::Vector3d& point = Eigen::Vector3d::Zero()) {
-  timestepper::Surface s;
+  scene::Surface s;
   s.name = name;
   s.normal = normal.normalized();
   s.point = point;
   return s;
 }
 
-inline timestepper::Contact contactAt(const dynamics::Model<double>& model, const std::string& name,
+inline scene::Contact contactAt(const dynamics::Model<double>& model, const std::string& name,
                                       const std::string& frame, const Eigen::Vector3d& p_F, double e, double mu,
                                       int k) {
-  timestepper::Contact c;
+  scene::Contact c;
   c.name = name;
   c.link = frame;
   const dynamics::Frame& f = model.frames.at(model.frameIndex(frame));
@@ -35,8 +35,8 @@ inline timestepper::Contact contactAt(const dynamics::Model<double>& model, cons
 }
 
 // A point mass on one vertical coordinate z above the ground z = 0.
-inline timestepper::Scene ballDrop(double height, double e) {
-  timestepper::Scene s;
+inline scene::Scene ballDrop(double height, double e) {
+  scene::Scene s;
   s.name = "ball_drop";
   s.model = dynamics::pointMassModel(1.0, Eigen::Vector3d::UnitZ(), "z");
   s.surfaces.push_back(plane("ground"));
@@ -48,7 +48,7 @@ inline timestepper::Scene ballDrop(double height, double e) {
 
 // A particle on a plane inclined by `incline`, in the plane's frame: coordinates s (down the
 // slope, along x) and n (normal, along z); gravity rotated accordingly.
-inline timestepper::Scene blockSlide(double incline, double speed, double mu, double g = 9.81) {
+inline scene::Scene blockSlide(double incline, double speed, double mu, double g = 9.81) {
   dynamics::ModelBuilder b("particle");
   b.addLink("world");
   b.addLink("slider");
@@ -59,7 +59,7 @@ inline timestepper::Scene blockSlide(double incline, double speed, double mu, do
   dynamics::JointSpec jn{"n", dynamics::LinkJointType::Prismatic, "slider", "block"};
   jn.axis = Eigen::Vector3d::UnitZ();
   b.addJoint(jn);
-  timestepper::Scene s;
+  scene::Scene s;
   s.name = "block_slide";
   s.model = b.build(dynamics::BaseType::Fixed, Eigen::Vector3d(g * std::sin(incline), 0, -g * std::cos(incline)));
   s.surfaces.push_back(plane("slope"));
@@ -70,7 +70,7 @@ inline timestepper::Scene blockSlide(double incline, double speed, double mu, do
 }
 
 // A particle on three prismatic coordinates x, y, z on the ground, friction cone with k facets.
-inline timestepper::Scene particle3d(const Eigen::Vector2d& velocity, double mu, int k) {
+inline scene::Scene particle3d(const Eigen::Vector2d& velocity, double mu, int k) {
   dynamics::ModelBuilder b("particle3d");
   b.addLink("world");
   b.addLink("px");
@@ -83,7 +83,7 @@ inline timestepper::Scene particle3d(const Eigen::Vector2d& velocity, double mu,
     j.axis = Eigen::Vector3d::Unit(i);
     b.addJoint(j);
   }
-  timestepper::Scene s;
+  scene::Scene s;
   s.name = "particle3d";
   s.model = b.build();
   s.surfaces.push_back(plane("ground"));
@@ -95,13 +95,13 @@ inline timestepper::Scene particle3d(const Eigen::Vector2d& velocity, double mu,
 
 // The paper's two-link pendulum (unit masses, 0.5 m links) with its tip resting on a belt at
 // θ1 = 0, θ2 = π/4; the belt steps from rest to `belt_speed` along +x at `step_time`.
-inline timestepper::Scene pendulumConveyor(double mu, double belt_speed, double step_time) {
-  timestepper::Scene s;
+inline scene::Scene pendulumConveyor(double mu, double belt_speed, double step_time) {
+  scene::Scene s;
   s.name = "pendulum_conveyor";
   s.model = dynamics::loadUrdfFile(std::string(SALTUS_SOURCE_DIR) + "/models/pendulum/double_pendulum.urdf");
   const double th1 = 0, th2 = M_PI / 4;
   const double z_tip = -0.5 * std::cos(th1) - 0.5 * std::cos(th1 + th2);
-  timestepper::Surface belt = plane("belt", Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0, 0, z_tip));
+  scene::Surface belt = plane("belt", Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0, 0, z_tip));
   belt.velocity_schedule.push_back({step_time, Eigen::Vector3d(belt_speed, 0, 0)});
   s.surfaces.push_back(belt);
   s.contacts.push_back(contactAt(s.model, "tip", "tip", Eigen::Vector3d::Zero(), 0, mu, 2));
@@ -112,11 +112,11 @@ inline timestepper::Scene pendulumConveyor(double mu, double belt_speed, double 
 
 // A uniform rod (half-length l, mass m) on a planar base, one end on the ground at angle θ to
 // it, sliding with that end leading at `speed`.
-inline timestepper::Scene painleveRod(double mu, double angle, double speed, double l = 0.5, double m = 1.0) {
+inline scene::Scene painleveRod(double mu, double angle, double speed, double l = 0.5, double m = 1.0) {
   dynamics::ModelBuilder b("rod");
   const double I = m * (2 * l) * (2 * l) / 12;
   b.addLink("rod", m, Eigen::Vector3d::Zero(), Eigen::Vector3d(1e-6, I, I).asDiagonal());
-  timestepper::Scene s;
+  scene::Scene s;
   s.name = "painleve_rod";
   s.model = b.build(dynamics::BaseType::Planar);
   s.surfaces.push_back(plane("ground"));

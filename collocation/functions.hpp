@@ -1,0 +1,290 @@
+// The local functions of the transcription (local_function.hpp): equations of motion, contact
+// kinematics, integration and the complementarity products, each with the paper's equation.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collocation/local_function.hpp"
+#include "collocation/model_set.hpp"
+#include "dynamics/jacobian.hpp"
+#include "dynamics/kinematics.hpp"
+#include "dynamics/rnea.hpp"
+
+namespace saltus::collocation {
+
+constexpr int kMaxCoordinates = 64;  // bound of the stack arrays in the local functions
+template <class S> using PointJacobian = Eigen::Matrix<S, 3, Eigen::Dynamic, 0, 3, kMaxCoordinates>;
+template <class S> using ConstMap = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, 1>>;
+
+// One unilateral constraint of the problem: a point of a body on a surface (gap along the
+// surface normal, friction with a polyhedral cone of k directions, restitution e), or a
+// joint-limit stop (gap = sign·(q_i − limit), frictionless).
+struct ContactPoint {
+  std::string name;
+  bool is_limit = false;
+  int coordinate = -1;  // limit stop: the coordinate; sign +1 lower stop, −1 upper stop
+  double sign = 1, limit = 0;
+  int body = -1;
+  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // the point in body coordinates
+  int surface = -1;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), surface_point = Eigen::Vector3d::Zero();
+  Eigen::Matrix3Xd directions;  // 3 × k unit tangent directions (paper eq. 11)
+  double mu = 0, e = 0;
+  int k() const { return static_cast<int>(directions.cols()); }
+
+  // Gap y(q) (needs forwardKinematics(q) for a point contact).
+  template <class S>
+  S gap(const dynamics::Data<S>& data, const S* q) const {
+    if (is_limit) return S(sign) * (q[coordinate] - S(limit));
+    const dynamics::Vec3<S> p = dynamics::pointPosition(data, body, dynamics::Vec3<S>(p_B.cast<S>()));
+    return normal.cast<S>().dot(p - surface_point.cast<S>());
+  }
+};
+
+// How tangential reactions enter the equations of motion.
+enum class FrictionForm {
+  Activation,  // the paper's (11): r_t = μ r_n Σ d_i α_i, opposing the slip (force −r_t)
+  Direct       // Posa et al.: a force Σ d_i β_i, β_i ≥ 0
+};
+
+// Equations of motion at a point, with the reactions of the contacts:
+//   with_dynamics:  M(q) q̈ + C(q, q̇) q̇ + g(q) − B u − Σ_c J_cᵀ f_c = 0   (paper §II.C)
+//   impulsive:      M(q) Δq̇ − Σ_c J_cᵀ p_c = 0                            (paper eq. 6)
+// where f_c = n r_n − μ r_n Σ_i d_i α_i (Activation) or n r_n + Σ_i d_i β_i (Direct).
+// Inputs: q (n), then with_dynamics: q̇ (n); q̈ or Δq̇ (n); u (one per input coordinate); then per
+// contact: r_n and its k tangential variables.
+struct EquationOfMotion {
+  const ModelSet* models;
+  const std::vector<ContactPoint>* contacts;
+  std::vector<int> actuated;  // coordinates the inputs act on
+  bool with_dynamics = true;
+  FrictionForm friction = FrictionForm::Activation;
+
+  int nv() const { return models->model<double>().nv(); }
+  int inputs_count() const { return with_dynamics ? static_cast<int>(actuated.size()) : 0; }
+  int inputs() const {
+    int k = (with_dynamics ? 3 : 2) * nv() + inputs_count();
+    for (const ContactPoint& c : *contacts) k += 1 + c.k();
+    return k;
+  }
+  int outputs() const { return nv(); }
+
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    const int n = nv();
+    const auto& model = with_dynamics ? models->model<S>() : models->modelWithoutGravity<S>();
+    auto& data = models->data<S>();
+    const S* q = x;
+    const S* v = with_dynamics ? x + n : nullptr;
+    const S* a = with_dynamics ? x + 2 * n : x + n;
+    const S* u = a + n;
+    const S* r = u + inputs_count();
+    for (int i = 0; i < n; ++i) y[i] = S(0);
+    // Σ J_cᵀ f_c first: rnea below overwrites the kinematics.
+    dynamics::forwardKinematics(model, data, ConstMap<S>(q, n));
+    PointJacobian<S> J(3, n);
+    for (const ContactPoint& c : *contacts) {
+      const S& rn = r[0];
+      if (c.is_limit) {
+        y[c.coordinate] -= S(c.sign) * rn;
+        r += 1;
+        continue;
+      }
+      dynamics::Vec3<S> f = c.normal.cast<S>() * rn;
+      for (int i = 0; i < c.k(); ++i) {
+        const dynamics::Vec3<S> d = c.directions.col(i).cast<S>();
+        if (friction == FrictionForm::Activation)
+          f -= d * (S(c.mu) * rn * r[1 + i]);
+        else
+          f += d * r[1 + i];
+      }
+      dynamics::pointJacobian(model, data, c.body, dynamics::Vec3<S>(c.p_B.cast<S>()), J);
+      for (int j = 0; j < n; ++j) y[j] -= J.col(j).dot(f);
+      r += 1 + c.k();
+    }
+    const auto zero = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1>::Zero(n);
+    const auto& tau = with_dynamics ? dynamics::rnea(model, data, ConstMap<S>(q, n), ConstMap<S>(v, n), ConstMap<S>(a, n))
+                                    : dynamics::rnea(model, data, ConstMap<S>(q, n), zero, ConstMap<S>(a, n));
+    for (int i = 0; i < n; ++i) y[i] += tau[i];
+    for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
+  }
+};
+
+// Gap variables: y_c − gap_c(q) = 0 for every contact at one point (the gaps are variables so
+// that non-penetration y ≥ 0 is a bound and (9b), (10) are products of variables).
+// Inputs: q (n), y (one per contact).
+struct GapDefinition {
+  const ModelSet* models;
+  const std::vector<ContactPoint>* contacts;
+  int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
+  int outputs() const { return static_cast<int>(contacts->size()); }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    const int n = models->model<double>().nv();
+    auto& data = models->data<S>();
+    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n));
+    for (int c = 0; c < outputs(); ++c) y[c] = x[n + c] - (*contacts)[c].gap(data, x);
+  }
+};
+
+// Normal velocity of a contact, ẏ = d/dt gap(q) = n·v_P (or sign·q̇_i for a stop), and the
+// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardKinematics(q, q̇).
+template <class S>
+S normalVelocity(const ContactPoint& c, const dynamics::Data<S>& data, const S* v) {
+  if (c.is_limit) return S(c.sign) * v[c.coordinate];
+  return c.normal.cast<S>().dot(dynamics::pointVelocity(data, c.body, dynamics::Vec3<S>(c.p_B.cast<S>())));
+}
+
+// Restitution at an element boundary, paper eq. (9a):
+//   a⁺ − a⁻ − ẏ[n, 0] − e ẏ[n−1, P+1] = 0   (ẏ[n, 0] after the jump, ẏ[n−1, P+1] before it)
+// Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻.
+struct RestitutionBalance {
+  const ModelSet* models;
+  const ContactPoint* contact;
+  int inputs() const { return 4 * models->model<double>().nv() + 2; }
+  int outputs() const { return 1; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    const int n = models->model<double>().nv();
+    const auto& model = models->model<S>();
+    auto& data = models->data<S>();
+    dynamics::forwardKinematics(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    const S after = normalVelocity(*contact, data, x + n);
+    dynamics::forwardKinematics(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
+    const S before = normalVelocity(*contact, data, x + 3 * n);
+    y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->e) * before;
+  }
+};
+
+// Slip slacks of a friction cone at one point:
+//   Activation (paper eq. 12): ψ_i = γ − d_iᵀ v_t ≥ 0,   α_i ⊥ ψ_i
+//   Direct (Posa et al.):      ψ_i = γ + d_iᵀ v_t ≥ 0,   β_i ⊥ ψ_i
+// as equalities ψ_i − γ ± d_iᵀ(v_P − v_surface) = 0. Inputs: q, q̇ (2n), γ, ψ_1 … ψ_k.
+struct SlipSlack {
+  const ModelSet* models;
+  const ContactPoint* contact;
+  Eigen::Vector3d surface_velocity = Eigen::Vector3d::Zero();
+  FrictionForm friction = FrictionForm::Activation;
+  int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
+  int outputs() const { return contact->k(); }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    const int n = models->model<double>().nv();
+    auto& data = models->data<S>();
+    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    const dynamics::Vec3<S> slip =
+        dynamics::pointVelocity(data, contact->body, dynamics::Vec3<S>(contact->p_B.cast<S>())) -
+        surface_velocity.cast<S>();
+    const S& gamma = x[2 * n];
+    const S sign(friction == FrictionForm::Activation ? 1.0 : -1.0);
+    for (int i = 0; i < contact->k(); ++i)
+      y[i] = x[2 * n + 1 + i] - gamma + sign * contact->directions.col(i).cast<S>().dot(slip);
+  }
+};
+
+// Integration within an element, paper eqs. (3) and (4), for one coordinate:
+//   x_end − x_0 − h Σ_j c_j ẋ_j = 0   (c = a row of Ω, or the quadrature weights b)
+// Inputs: x_end, x_0, h, ẋ_1 … ẋ_P.
+struct Integration {
+  Eigen::VectorXd c;
+  int inputs() const { return 3 + static_cast<int>(c.size()); }
+  int outputs() const { return 1; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    S sum(0);
+    for (int j = 0; j < c.size(); ++j) sum += S(c[j]) * x[3 + j];
+    y[0] = x[0] - x[1] - x[2] * sum;
+  }
+};
+
+// Actuator effort over an element by its quadrature: h Σ_j b_j Σ_i u_i[j]². Inputs: h, then the
+// inputs at the collocation points (point-major).
+struct Effort {
+  Eigen::VectorXd b;
+  int nu = 0;
+  int inputs() const { return 1 + static_cast<int>(b.size()) * nu; }
+  int outputs() const { return 1; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    S sum(0);
+    for (int j = 0; j < b.size(); ++j)
+      for (int i = 0; i < nu; ++i) sum += S(b[j]) * x[1 + j * nu + i] * x[1 + j * nu + i];
+    y[0] = x[0] * sum;
+  }
+};
+
+// Σ_i c_i x_i (a linear constraint or cost term; its Hessian is zero).
+class LinearFunction final : public LocalFunction {
+ public:
+  explicit LinearFunction(Eigen::VectorXd c) : c_(std::move(c)) {}
+  int inputs() const override { return static_cast<int>(c_.size()); }
+  int outputs() const override { return 1; }
+  bool linear() const override { return true; }
+  void value(const double* x, double* y) const override { y[0] = c_.dot(ConstMap<double>(x, c_.size())); }
+  void jacobian(const double*, double* J) const override {
+    for (int i = 0; i < c_.size(); ++i) J[i] = c_[i];
+  }
+  void hessian(const double*, const double*, double*) const override {}
+
+ private:
+  Eigen::VectorXd c_;
+};
+
+// weight × f (a weighted cost term sharing its function with the other elements).
+class ScaledFunction final : public LocalFunction {
+ public:
+  ScaledFunction(std::shared_ptr<const LocalFunction> f, double weight) : f_(std::move(f)), w_(weight) {}
+  int inputs() const override { return f_->inputs(); }
+  int outputs() const override { return f_->outputs(); }
+  bool linear() const override { return f_->linear(); }
+  void value(const double* x, double* y) const override {
+    f_->value(x, y);
+    for (int r = 0; r < outputs(); ++r) y[r] *= w_;
+  }
+  void jacobian(const double* x, double* J) const override {
+    f_->jacobian(x, J);
+    for (int i = 0; i < inputs() * outputs(); ++i) J[i] *= w_;
+  }
+  void hessian(const double* x, const double* lambda, double* H) const override {
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 64, 1> l = ConstMap<double>(lambda, outputs()) * w_;
+    f_->hessian(x, l.data(), H);
+  }
+
+ private:
+  std::shared_ptr<const LocalFunction> f_;
+  double w_;
+};
+
+// A relaxed complementarity product, paper eq. (8):
+//   (Σ_{i<na} a_i x_i + a_0)(Σ_{na≤i<n−1} b_i x_i + b_0) − ε ≤ 0, ε = x_{n−1}.
+class ComplementarityProduct final : public LocalFunction {
+ public:
+  ComplementarityProduct(Eigen::VectorXd a, double a0, Eigen::VectorXd b, double b0)
+      : a_(std::move(a)), b_(std::move(b)), a0_(a0), b0_(b0) {}
+  int inputs() const override { return static_cast<int>(a_.size() + b_.size()) + 1; }
+  int outputs() const override { return 1; }
+  double product(const double* x) const { return factorA(x) * factorB(x); }
+  void value(const double* x, double* y) const override { y[0] = product(x) - x[inputs() - 1]; }
+  void jacobian(const double* x, double* J) const override {
+    const double A = factorA(x), B = factorB(x);
+    const int na = static_cast<int>(a_.size());
+    for (int i = 0; i < na; ++i) J[i] = a_[i] * B;
+    for (int i = 0; i < b_.size(); ++i) J[na + i] = b_[i] * A;
+    J[inputs() - 1] = -1;
+  }
+  void hessian(const double*, const double* lambda, double* H) const override {
+    const int n = inputs(), na = static_cast<int>(a_.size());
+    for (int j = 0; j < na; ++j)
+      for (int i = 0; i < b_.size(); ++i) H[(na + i) + j * n] = lambda[0] * a_[j] * b_[i];
+  }
+
+ private:
+  double factorA(const double* x) const { return a_.dot(ConstMap<double>(x, a_.size())) + a0_; }
+  double factorB(const double* x) const { return b_.dot(ConstMap<double>(x + a_.size(), b_.size())) + b0_; }
+  Eigen::VectorXd a_, b_;
+  double a0_, b0_;
+};
+
+}  // namespace saltus::collocation

@@ -1,0 +1,39 @@
+// The model and its workspaces for the three scalar types the local functions are evaluated in
+// (double, first- and second-order duals; local_function.hpp), with and without gravity: the
+// impulsive equation of motion (6) is RNEA at zero velocity without gravity, M(q) q̈.
+#pragma once
+
+#include <tuple>
+
+#include "collocation/local_function.hpp"
+#include "dynamics/data.hpp"
+#include "dynamics/model.hpp"
+
+namespace saltus::collocation {
+
+class ModelSet {
+ public:
+  explicit ModelSet(const dynamics::Model<double>& model)
+      : models_(model, model.template cast<Dual>(), model.template cast<Dual2>()),
+        unforced_(withoutGravity(model), withoutGravity(model).template cast<Dual>(),
+                  withoutGravity(model).template cast<Dual2>()),
+        data_(std::get<0>(models_), std::get<1>(models_), std::get<2>(models_)) {}
+
+  template <class S> const dynamics::Model<S>& model() const { return std::get<dynamics::Model<S>>(models_); }
+  template <class S> const dynamics::Model<S>& modelWithoutGravity() const {
+    return std::get<dynamics::Model<S>>(unforced_);
+  }
+  // One workspace per scalar; the local functions run one at a time.
+  template <class S> dynamics::Data<S>& data() const { return std::get<dynamics::Data<S>>(data_); }
+
+ private:
+  static dynamics::Model<double> withoutGravity(dynamics::Model<double> m) {
+    m.gravity.setZero();
+    return m;
+  }
+  using Models = std::tuple<dynamics::Model<double>, dynamics::Model<Dual>, dynamics::Model<Dual2>>;
+  Models models_, unforced_;
+  mutable std::tuple<dynamics::Data<double>, dynamics::Data<Dual>, dynamics::Data<Dual2>> data_;
+};
+
+}  // namespace saltus::collocation

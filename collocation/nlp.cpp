@@ -1,0 +1,231 @@
+#include "collocation/nlp.hpp"
+
+#include <chrono>
+#include <map>
+#include <utility>
+
+namespace saltus::collocation {
+
+namespace {
+// Adds the time of a scope to a counter.
+class Timer {
+ public:
+  explicit Timer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Timer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
+}  // namespace
+
+Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0) : t_(t), stage_(stage), x0_(x0) {
+  if (stage == Stage::Feasibility) {
+    x_lower_ = t.hintedLower();
+    x_upper_ = t.hintedUpper();
+  } else {
+    x_lower_ = t.variableLower();
+    x_upper_ = t.variableUpper();
+    for (int e : t.penaltyVariables()) x_upper_[e] = t.problem().complementarity_tolerance;
+  }
+  // Sparsity: dense local blocks mapped to global entries; duplicates share an entry.
+  std::map<std::pair<int, int>, int> jac, hess;
+  std::size_t max_in = 1, max_out = 1;
+  const auto& blocks = t.blocks();
+  for (const Block& b : blocks) {
+    const int n = b.f->inputs(), m = b.f->outputs();
+    max_in = std::max<std::size_t>(max_in, n);
+    max_out = std::max<std::size_t>(max_out, m);
+    jac_first_.push_back(static_cast<int>(jac_pos_.size()));
+    if (b.row >= 0)
+      for (int c = 0; c < n; ++c)
+        for (int r = 0; r < m; ++r) {
+          const auto key = std::make_pair(b.row + r, b.vars[c]);
+          auto [it, added] = jac.try_emplace(key, static_cast<int>(jac.size()));
+          if (added) jac_row_.push_back(key.first), jac_col_.push_back(key.second);
+          jac_pos_.push_back(it->second);
+        }
+    hess_first_.push_back(b.f->linear() || (b.row < 0 && weight(b) == 0) ? -1 : static_cast<int>(hess_pos_.size()));
+    if (hess_first_.back() < 0) continue;
+    for (int j = 0; j < n; ++j)
+      for (int i = j; i < n; ++i) {
+        const int a = b.vars[i], c = b.vars[j];
+        const auto key = std::make_pair(std::max(a, c), std::min(a, c));
+        auto [it, added] = hess.try_emplace(key, static_cast<int>(hess.size()));
+        if (added) hess_row_.push_back(key.first), hess_col_.push_back(key.second);
+        hess_pos_.push_back(it->second);
+      }
+  }
+  local_x_.resize(max_in);
+  local_y_.resize(max_out);
+  local_d_.resize(max_in * std::max(max_in, max_out));
+  local_l_.resize(max_out);
+}
+
+double Nlp::weight(const Block& b) const {
+  if (b.row >= 0) return 0.0;
+  if (b.cost_group == kPenaltyCost)
+    return stage_ == Stage::Feasibility ? 1.0 : t_.problem().cost.penalty_weight;
+  if (b.cost_group == kTaskCost) return stage_ == Stage::Task ? 1.0 : 0.0;
+  return 0.0;
+}
+
+const double* Nlp::gather(const Block& b, const Ipopt::Number* x) {
+  for (std::size_t i = 0; i < b.vars.size(); ++i) local_x_[i] = x[b.vars[i]];
+  return local_x_.data();
+}
+
+bool Nlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
+                       IndexStyleEnum& index_style) {
+  n = t_.variables();
+  m = t_.constraints();
+  nnz_jac_g = static_cast<Ipopt::Index>(jac_row_.size());
+  nnz_h_lag = static_cast<Ipopt::Index>(hess_row_.size());
+  index_style = C_STYLE;
+  return true;
+}
+
+bool Nlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m,
+                          Ipopt::Number* g_l, Ipopt::Number* g_u) {
+  // Ipopt reads ±1e19 (nlp_lower/upper_bound_inf) as infinite.
+  auto finite = [](double v) { return std::max(-1e19, std::min(1e19, v)); };
+  for (int i = 0; i < n; ++i) x_l[i] = finite(x_lower_[i]), x_u[i] = finite(x_upper_[i]);
+  for (int i = 0; i < m; ++i) g_l[i] = finite(t_.constraintLower()[i]), g_u[i] = finite(t_.constraintUpper()[i]);
+  return true;
+}
+
+bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number*,
+                             Ipopt::Number*, Ipopt::Index, bool init_lambda, Ipopt::Number*) {
+  if (init_z || init_lambda) return false;
+  if (init_x)
+    for (int i = 0; i < n; ++i) x[i] = x0_[i];
+  return true;
+}
+
+bool Nlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
+  Timer timer(eval_seconds_);
+  obj_value = 0;
+  for (const Block& b : t_.blocks()) {
+    const double w = b.row < 0 ? weight(b) : 0.0;
+    if (w == 0) continue;
+    b.f->value(gather(b, x), local_y_.data());
+    obj_value += w * local_y_[0];
+  }
+  return true;
+}
+
+bool Nlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number* grad_f) {
+  Timer timer(eval_seconds_);
+  for (int i = 0; i < n; ++i) grad_f[i] = 0;
+  for (const Block& b : t_.blocks()) {
+    const double w = b.row < 0 ? weight(b) : 0.0;
+    if (w == 0) continue;
+    b.f->jacobian(gather(b, x), local_d_.data());
+    for (std::size_t c = 0; c < b.vars.size(); ++c) grad_f[b.vars[c]] += w * local_d_[c];
+  }
+  return true;
+}
+
+bool Nlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) {
+  Timer timer(eval_seconds_);
+  for (const Block& b : t_.blocks()) {
+    if (b.row < 0) continue;
+    b.f->value(gather(b, x), g + b.row);
+  }
+  return true;
+}
+
+bool Nlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Index nele_jac,
+                     Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) {
+  Timer timer(eval_seconds_);
+  if (values == nullptr) {
+    for (int k = 0; k < nele_jac; ++k) iRow[k] = jac_row_[k], jCol[k] = jac_col_[k];
+    return true;
+  }
+  for (int k = 0; k < nele_jac; ++k) values[k] = 0;
+  const auto& blocks = t_.blocks();
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    if (b.row < 0) continue;
+    b.f->jacobian(gather(b, x), local_d_.data());
+    const int count = b.f->inputs() * b.f->outputs();
+    const int* pos = jac_pos_.data() + jac_first_[bi];
+    for (int k = 0; k < count; ++k) values[pos[k]] += local_d_[k];
+  }
+  return true;
+}
+
+bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_factor, Ipopt::Index,
+                 const Ipopt::Number* lambda, bool, Ipopt::Index nele_hess, Ipopt::Index* iRow, Ipopt::Index* jCol,
+                 Ipopt::Number* values) {
+  Timer timer(eval_seconds_);
+  if (values == nullptr) {
+    for (int k = 0; k < nele_hess; ++k) iRow[k] = hess_row_[k], jCol[k] = hess_col_[k];
+    return true;
+  }
+  for (int k = 0; k < nele_hess; ++k) values[k] = 0;
+  const auto& blocks = t_.blocks();
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    if (hess_first_[bi] < 0) continue;
+    const Block& b = blocks[bi];
+    const int n = b.f->inputs(), m = b.f->outputs();
+    bool any = false;
+    for (int r = 0; r < m; ++r) {
+      local_l_[r] = b.row >= 0 ? lambda[b.row + r] : obj_factor * weight(b);
+      any = any || local_l_[r] != 0;
+    }
+    if (!any) continue;
+    std::fill(local_d_.begin(), local_d_.begin() + n * n, 0.0);
+    b.f->hessian(gather(b, x), local_l_.data(), local_d_.data());
+    const int* pos = hess_pos_.data() + hess_first_[bi];
+    int k = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = j; i < n; ++i) values[pos[k++]] += local_d_[i + j * n];
+  }
+  return true;
+}
+
+void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
+                            const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index, const Ipopt::Number*,
+                            const Ipopt::Number*, Ipopt::Number obj_value, const Ipopt::IpoptData*,
+                            Ipopt::IpoptCalculatedQuantities*) {
+  status_ = status;
+  objective_ = obj_value;
+  x_ = Eigen::Map<const Eigen::VectorXd>(x, n);
+}
+
+double Nlp::cost(const Eigen::VectorXd& x) {
+  double f;
+  eval_f(static_cast<int>(x.size()), x.data(), true, f);
+  return f;
+}
+
+Eigen::VectorXd Nlp::constraints(const Eigen::VectorXd& x) {
+  Eigen::VectorXd g(t_.constraints());
+  eval_g(static_cast<int>(x.size()), x.data(), true, static_cast<int>(g.size()), g.data());
+  return g;
+}
+
+Eigen::MatrixXd Nlp::jacobian(const Eigen::VectorXd& x) {
+  const int nnz = jacobianNonzeros();
+  std::vector<double> v(nnz);
+  eval_jac_g(static_cast<int>(x.size()), x.data(), true, t_.constraints(), nnz, nullptr, nullptr, v.data());
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(t_.constraints(), t_.variables());
+  for (int k = 0; k < nnz; ++k) J(jac_row_[k], jac_col_[k]) += v[k];
+  return J;
+}
+
+Eigen::MatrixXd Nlp::hessian(const Eigen::VectorXd& x, double obj_factor, const Eigen::VectorXd& lambda) {
+  const int nnz = hessianNonzeros();
+  std::vector<double> v(nnz);
+  eval_h(static_cast<int>(x.size()), x.data(), true, obj_factor, t_.constraints(), lambda.data(), true, nnz, nullptr,
+         nullptr, v.data());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(t_.variables(), t_.variables());
+  for (int k = 0; k < nnz; ++k) {
+    H(hess_row_[k], hess_col_[k]) += v[k];
+    if (hess_row_[k] != hess_col_[k]) H(hess_col_[k], hess_row_[k]) += v[k];
+  }
+  return H;
+}
+
+}  // namespace saltus::collocation

@@ -1,0 +1,73 @@
+// The transcription (transcription.hpp) as an Ipopt TNLP for one stage of the two-stage solve
+// (paper §V.C): the feasibility stage minimises the complementarity penalty Σ ε with the hint
+// bounds applied; the task stage minimises the task cost plus the weighted penalty with every ε
+// bounded by the complementarity tolerance. Only the sparsity structure is stored: the Jacobian
+// and the Hessian of the Lagrangian are assembled from the blocks' dense local derivatives.
+#pragma once
+
+#include <IpTNLP.hpp>
+
+#include <string>
+#include <vector>
+
+#include "collocation/transcription.hpp"
+
+namespace saltus::collocation {
+
+enum class Stage { Feasibility, Task };
+
+class Nlp : public Ipopt::TNLP {
+ public:
+  Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0);
+
+  // Results of the last solve.
+  const Eigen::VectorXd& solution() const { return x_; }
+  Ipopt::SolverReturn status() const { return status_; }
+  double objective() const { return objective_; }
+  double evaluationSeconds() const { return eval_seconds_; }
+  int jacobianNonzeros() const { return static_cast<int>(jac_row_.size()); }
+  int hessianNonzeros() const { return static_cast<int>(hess_row_.size()); }
+
+  // Ipopt::TNLP
+  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override;
+  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m,
+                       Ipopt::Number* g_l, Ipopt::Number* g_u) override;
+  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                          Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) override;
+  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number& obj_value) override;
+  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) override;
+  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Number* g) override;
+  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Index nele_jac,
+                  Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override;
+  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool new_lambda, Ipopt::Index nele_hess, Ipopt::Index* iRow,
+              Ipopt::Index* jCol, Ipopt::Number* values) override;
+  void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
+                         const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m,
+                         const Ipopt::Number* g, const Ipopt::Number* lambda, Ipopt::Number obj_value,
+                         const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
+
+  // The same evaluations for tests (dense, no Ipopt).
+  double cost(const Eigen::VectorXd& x);
+  Eigen::VectorXd constraints(const Eigen::VectorXd& x);
+  Eigen::MatrixXd jacobian(const Eigen::VectorXd& x);
+  Eigen::MatrixXd hessian(const Eigen::VectorXd& x, double obj_factor, const Eigen::VectorXd& lambda);  // full symmetric
+
+ private:
+  double weight(const Block& b) const;  // cost weight of a block in this stage (0: not in the cost)
+  const double* gather(const Block& b, const Ipopt::Number* x);
+
+  const Transcription& t_;
+  Stage stage_;
+  Eigen::VectorXd x0_, x_lower_, x_upper_;
+  std::vector<int> jac_row_, jac_col_, jac_pos_, jac_first_;     // per block: first position in jac_pos_
+  std::vector<int> hess_row_, hess_col_, hess_pos_, hess_first_;  // per block: first in hess_pos_ (−1: none)
+  std::vector<double> local_x_, local_y_, local_d_, local_l_;
+  Eigen::VectorXd x_;
+  Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
+  double objective_ = 0;
+  double eval_seconds_ = 0;
+};
+
+}  // namespace saltus::collocation

@@ -1,0 +1,493 @@
+#include "collocation/transcription.hpp"
+
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+
+namespace saltus::collocation {
+
+namespace {
+std::string at(int n, int p) { return "[" + std::to_string(n + 1) + "," + std::to_string(p) + "]"; }
+}  // namespace
+
+Transcription::Transcription(const Problem& problem, Method method)
+    : problem_(problem), method_(method), lg_(method == Method::FirstOrder ? 1 : problem.P) {
+  const auto& model = problem.scene.model;
+  nv_ = model.nv();
+  nu_ = static_cast<int>(problem.inputs.size());
+  if (nv_ > kMaxCoordinates)
+    throw std::invalid_argument("collocation supports at most " + std::to_string(kMaxCoordinates) +
+                                " coordinates; the model has " + std::to_string(nv_));
+  if (problem.N < 1) throw std::invalid_argument("N must be ≥ 1");
+  if (problem.P < 1) throw std::invalid_argument("P must be ≥ 1");
+  models_ = std::make_unique<ModelSet>(model);
+  buildContacts();
+  if (method == Method::Continuous)
+    for (const ContactPoint& c : contacts_)
+      if (c.e > 0)
+        throw std::invalid_argument(
+            "the continuous method cannot represent restitution: contact '" + c.name + "' has e = " +
+            std::to_string(c.e) + " (> 0); use --method impulsive, or restitution 0");
+  buildVariables();
+  for (int n = 0; n < elements(); ++n) {
+    buildElementConstraints(n);
+    buildContactConstraints(n);
+  }
+  buildProblemConstraints();
+  applyBounds();
+}
+
+void Transcription::buildContacts() {
+  const scene::Scene& s = problem_.scene;
+  for (const scene::Contact& c : s.contacts) {
+    ContactPoint cp;
+    cp.name = c.name;
+    cp.body = c.body;
+    cp.p_B = c.p_B;
+    cp.surface = c.surface;
+    const scene::Surface& surface = s.surfaces.at(c.surface);
+    cp.normal = surface.normal;
+    cp.surface_point = surface.point;
+    cp.mu = c.friction;
+    cp.e = c.restitution;
+    cp.directions = c.friction > 0 ? surface.coneDirections(c.directions) : Eigen::Matrix3Xd(3, 0);
+    contacts_.push_back(cp);
+  }
+  for (const scene::LimitStop& l : s.limits) {
+    ContactPoint cp;
+    cp.name = l.name;
+    cp.is_limit = true;
+    cp.coordinate = l.coordinate;
+    cp.sign = l.upper ? -1 : 1;
+    cp.limit = l.limit;
+    cp.e = l.restitution;
+    cp.directions = Eigen::Matrix3Xd(3, 0);
+    contacts_.push_back(cp);
+  }
+}
+
+int Transcription::addVariables(int count, double lower, double upper, const std::string& name) {
+  const int first = static_cast<int>(xl_.size());
+  for (int i = 0; i < count; ++i) {
+    xl_.push_back(lower);
+    xu_.push_back(upper);
+    x_names_.push_back(count == 1 ? name : name + "." + std::to_string(i));
+  }
+  return first;
+}
+
+int Transcription::addBlock(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, double lower,
+                            double upper, const std::string& name) {
+  if (static_cast<int>(vars.size()) != f->inputs())
+    throw std::logic_error("block " + name + ": " + std::to_string(vars.size()) + " variables for " +
+                           std::to_string(f->inputs()) + " inputs");
+  Block b;
+  b.row = static_cast<int>(gl_.size());
+  for (int r = 0; r < f->outputs(); ++r) {
+    gl_.push_back(lower);
+    gu_.push_back(upper);
+    g_names_.push_back(f->outputs() == 1 ? name : name + "." + std::to_string(r));
+  }
+  b.f = std::move(f);
+  b.vars = std::move(vars);
+  blocks_.push_back(std::move(b));
+  return static_cast<int>(blocks_.size()) - 1;
+}
+
+void Transcription::addCost(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, CostGroup group) {
+  Block b;
+  b.f = std::move(f);
+  b.vars = std::move(vars);
+  b.cost_group = group;
+  blocks_.push_back(std::move(b));
+}
+
+int Transcription::addProduct(const std::vector<int>& a_vars, const Eigen::VectorXd& a, double a0,
+                              const std::vector<int>& b_vars, const Eigen::VectorXd& b, double b0,
+                              const std::string& name) {
+  const int eps = addVariables(1, 0, kInf, "eps." + name);
+  epsilon_.push_back(eps);
+  std::vector<int> vars = a_vars;
+  vars.insert(vars.end(), b_vars.begin(), b_vars.end());
+  vars.push_back(eps);
+  const int blk = addBlock(std::make_shared<ComplementarityProduct>(a, a0, b, b0), vars, -kInf, 0, name);
+  product_blocks_.push_back(blk);
+  return blk;
+}
+
+void Transcription::addLinearEquality(const std::vector<int>& vars, const Eigen::VectorXd& c, double rhs,
+                                      const std::string& name) {
+  addBlock(std::make_shared<LinearFunction>(c), vars, rhs, rhs, name);
+}
+
+void Transcription::buildVariables() {
+  const bool fo = method_ == Method::FirstOrder;
+  const bool impulsive = method_ == Method::Impulsive;
+  const int spe = fo ? problem_.first_order_steps_per_element : 1;
+  const int elements = problem_.N * spe;
+  const double h_max = problem_.h_max / spe;
+  const int P = fo ? 1 : problem_.P;
+  layout_.resize(elements);
+  for (int n = 0; n < elements; ++n) {
+    ElementLayout& L = layout_[n];
+    L.h = addVariables(1, problem_.h_min_ratio * h_max, h_max, "h" + at(n, 0));
+    L.tau.push_back(0);
+    if (fo) {
+      L.tau.push_back(1);
+      L.collocation = {1};
+      L.end = 1;
+    } else {
+      for (int p = 0; p < P; ++p) L.tau.push_back(lg_.tau[p]), L.collocation.push_back(p + 1);
+      L.tau.push_back(1);
+      L.end = P + 1;
+    }
+    const int npts = static_cast<int>(L.tau.size());
+    L.points.resize(npts);
+    for (int p = 0; p < npts; ++p) {
+      auto& pt = L.points[p];
+      pt.q = addVariables(nv_, -kInf, kInf, "q" + at(n, p));
+      pt.v = addVariables(nv_, -kInf, kInf, "v" + at(n, p));
+    }
+    for (int p : L.collocation) {
+      L.points[p].a = addVariables(nv_, -kInf, kInf, "a" + at(n, p));
+      if (nu_ > 0) L.points[p].u = addVariables(nu_, -kInf, kInf, "u" + at(n, p));
+    }
+    const bool jump = impulsive && n > 0;
+    if (jump) L.points[0].a = addVariables(nv_, -kInf, kInf, "dv" + at(n, 0));
+    L.contacts.resize(contacts_.size());
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+      const ContactPoint& cp = contacts_[c];
+      auto& C = L.contacts[c];
+      const std::string tag = cp.name;
+      C.y.assign(npts, -1);
+      C.rn.assign(npts, -1);
+      C.t.assign(npts, -1);
+      C.gamma.assign(npts, -1);
+      for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
+      std::vector<int> force_points = L.collocation;
+      if (jump) force_points.insert(force_points.begin(), 0);
+      for (int p : force_points) {
+        C.rn[p] = addVariables(1, 0, kInf, (p == 0 ? "pn." : "rn.") + tag + at(n, p));
+        if (cp.k() > 0) {
+          C.t[p] = addVariables(cp.k(), 0, fo ? kInf : 1.0, (fo ? "beta." : "alpha.") + tag + at(n, p));
+          C.gamma[p] = addVariables(1, 0, kInf, "gamma." + tag + at(n, p));
+        }
+      }
+      if (jump) {
+        C.a_plus = addVariables(1, 0, kInf, "a+." + tag + at(n, 0));
+        C.a_minus = addVariables(1, 0, kInf, "a-." + tag + at(n, 0));
+      }
+    }
+  }
+  if (problem_.cost.max_coordinate >= 0) x_max_ = addVariables(1, -kInf, kInf, "x_max");
+}
+
+static std::vector<int> range(int first, int count) {
+  std::vector<int> v(count);
+  for (int i = 0; i < count; ++i) v[i] = first + i;
+  return v;
+}
+
+void Transcription::buildElementConstraints(int n) {
+  const ElementLayout& L = layout_[n];
+  const bool fo = method_ == Method::FirstOrder;
+  const int P = static_cast<int>(L.collocation.size());
+  auto integrate = [&](int target, const Eigen::VectorXd& c, const std::string& name) {
+    const auto f = std::make_shared<AdFunction<Integration>>(Integration{c});
+    for (int i = 0; i < nv_; ++i)
+      for (int kind = 0; kind < 2; ++kind) {  // q from q̇, q̇ from q̈
+        auto var = [&](int p) { return kind == 0 ? L.points[p].q + i : L.points[p].v + i; };
+        auto rate = [&](int p) { return kind == 0 ? L.points[p].v + i : L.points[p].a + i; };
+        std::vector<int> vars = {var(target), var(0), L.h};
+        for (int p : L.collocation) vars.push_back(rate(p));
+        addBlock(f, vars, 0, 0, std::string(kind == 0 ? "int.q" : "int.v") + name + "." + std::to_string(i));
+      }
+  };
+  if (fo) {
+    integrate(1, Eigen::VectorXd::Ones(1), at(n, 1));  // backward Euler
+  } else {
+    for (int p = 0; p < P; ++p) integrate(L.collocation[p], lg_.Omega.row(p).transpose(), at(n, p + 1));  // (3)
+    integrate(L.end, lg_.b, at(n, L.end));                                                             // (4)
+  }
+  // Continuity (5).
+  if (n > 0) {
+    const ElementLayout& prev = layout_[n - 1];
+    for (int i = 0; i < nv_; ++i) {
+      addLinearEquality({L.points[0].q + i, prev.points[prev.end].q + i}, Eigen::Vector2d(1, -1), 0,
+                        "cont.q" + at(n, 0) + "." + std::to_string(i));
+      if (L.points[0].a >= 0)
+        addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i, L.points[0].a + i},
+                          Eigen::Vector3d(1, -1, -1), 0, "jump.v" + at(n, 0) + "." + std::to_string(i));
+      else
+        addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i}, Eigen::Vector2d(1, -1), 0,
+                          "cont.v" + at(n, 0) + "." + std::to_string(i));
+    }
+  }
+  // Equations of motion at the collocation points, and (6) at an impulsive [n, 0].
+  const FrictionForm form = fo ? FrictionForm::Direct : FrictionForm::Activation;
+  auto eom = [&](int p, bool with_dynamics) {
+    EquationOfMotion e{models_.get(), &contacts_, problem_.inputs, with_dynamics, form};
+    std::vector<int> vars = range(L.points[p].q, nv_);
+    if (with_dynamics) {
+      const auto v = range(L.points[p].v, nv_);
+      vars.insert(vars.end(), v.begin(), v.end());
+    }
+    const auto a = range(L.points[p].a, nv_);
+    vars.insert(vars.end(), a.begin(), a.end());
+    if (with_dynamics && nu_ > 0) {
+      const auto u = range(L.points[p].u, nu_);
+      vars.insert(vars.end(), u.begin(), u.end());
+    }
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+      vars.push_back(L.contacts[c].rn[p]);
+      for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].t[p] + i);
+    }
+    addBlock(std::make_shared<AdFunction<EquationOfMotion>>(e), vars, 0, 0,
+             (with_dynamics ? "eom" : "impulse") + at(n, p));
+  };
+  for (int p : L.collocation) eom(p, true);
+  if (L.points[0].a >= 0) eom(0, false);
+}
+
+void Transcription::buildContactConstraints(int n) {
+  if (contacts_.empty()) return;
+  const ElementLayout& L = layout_[n];
+  const bool fo = method_ == Method::FirstOrder;
+  const int npts = static_cast<int>(L.points.size());
+  const int nc = static_cast<int>(contacts_.size());
+  // Gap variables at every point.
+  const auto gap = std::make_shared<AdFunction<GapDefinition>>(GapDefinition{models_.get(), &contacts_});
+  for (int p = 0; p < npts; ++p) {
+    std::vector<int> vars = range(L.points[p].q, nv_);
+    for (int c = 0; c < nc; ++c) vars.push_back(L.contacts[c].y[p]);
+    addBlock(gap, vars, 0, 0, "gap" + at(n, p));
+  }
+  for (int c = 0; c < nc; ++c) {
+    const ContactPoint& cp = contacts_[c];
+    const auto& C = L.contacts[c];
+    const std::string tag = cp.name;
+    // (9) at an impulsive [n, 0].
+    if (C.a_plus >= 0) {
+      const ElementLayout& prev = layout_[n - 1];
+      std::vector<int> vars = range(L.points[0].q, nv_);
+      for (int v : range(L.points[0].v, nv_)) vars.push_back(v);
+      for (int v : range(prev.points[prev.end].q, nv_)) vars.push_back(v);
+      for (int v : range(prev.points[prev.end].v, nv_)) vars.push_back(v);
+      vars.push_back(C.a_plus);
+      vars.push_back(C.a_minus);
+      addBlock(std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]}),
+               vars, 0, 0, "restitution." + tag + at(n, 0));
+      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0], C.a_plus, C.a_minus}, Eigen::Vector3d::Ones(), 0,
+                 "impact." + tag + at(n, 0));
+      // a⁺ ⊥ a⁻, so that a⁺ + a⁻ = |ẏ[n,0] + e ẏ[n−1,P+1]|: without it the pair is free whenever
+      // the contact is open and the barrier drives both to huge values.
+      addProduct({C.a_plus}, Eigen::VectorXd::Ones(1), 0, {C.a_minus}, Eigen::VectorXd::Ones(1), 0,
+                 "split." + tag + at(n, 0));
+    }
+    // (10), or Posa's φ(q[k+1]) ⊥ λ_n.
+    for (int p : L.collocation) {
+      if (fo) {
+        addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, {C.y[p]}, Eigen::VectorXd::Ones(1), 0,
+                   "contact." + tag + at(n, p));
+      } else {
+        addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, C.y, Eigen::VectorXd::Ones(npts), 0,
+                   "contact." + tag + at(n, p));
+      }
+    }
+    if (cp.k() == 0) continue;
+    // Friction at the points with reactions: slip slacks ψ (12), then (13) or Posa's cone.
+    std::vector<int> force_points;
+    for (int p = 0; p < npts; ++p)
+      if (C.rn[p] >= 0) force_points.push_back(p);
+    std::vector<int> gammas;
+    for (int p : force_points) gammas.push_back(C.gamma[p]);
+    const int element = fo ? n / problem_.first_order_steps_per_element : n;
+    for (int p : force_points) {
+      const int psi = addVariables(cp.k(), 0, kInf, "psi." + tag + at(n, p));
+      SlipSlack s{models_.get(), &contacts_[c], surfaceVelocity(cp.surface, element),
+                  fo ? FrictionForm::Direct : FrictionForm::Activation};
+      std::vector<int> vars = range(L.points[p].q, nv_);
+      for (int v : range(L.points[p].v, nv_)) vars.push_back(v);
+      vars.push_back(C.gamma[p]);
+      for (int i = 0; i < cp.k(); ++i) vars.push_back(psi + i);
+      addBlock(std::make_shared<AdFunction<SlipSlack>>(s), vars, 0, 0, "slip." + tag + at(n, p));
+      for (int i = 0; i < cp.k(); ++i)
+        addProduct({C.t[p] + i}, Eigen::VectorXd::Ones(1), 0, {psi + i}, Eigen::VectorXd::Ones(1), 0,
+                   "direction." + tag + at(n, p) + "." + std::to_string(i));
+      const std::vector<int> t = range(C.t[p], cp.k());
+      if (fo) {
+        // μ λ_n − Σ β_i ≥ 0 ⊥ γ.
+        std::vector<int> cone = {C.rn[p]};
+        cone.insert(cone.end(), t.begin(), t.end());
+        Eigen::VectorXd c_cone = -Eigen::VectorXd::Ones(cp.k() + 1);
+        c_cone[0] = cp.mu;
+        addBlock(std::make_shared<LinearFunction>(c_cone), cone, 0, kInf, "cone." + tag + at(n, p));
+        addProduct({C.gamma[p]}, Eigen::VectorXd::Ones(1), 0, cone, c_cone, 0, "sliding." + tag + at(n, p));
+      } else {
+        // Σ α_i ≤ 1, and (13): Σ_p γ[n, p] ⊥ 1 − Σ_i α_i[n, p].
+        addBlock(std::make_shared<LinearFunction>(Eigen::VectorXd::Ones(cp.k())), t, -kInf, 1.0,
+                 "cone." + tag + at(n, p));
+        addProduct(gammas, Eigen::VectorXd::Ones(gammas.size()), 0, t, -Eigen::VectorXd::Ones(cp.k()), 1.0,
+                   "sliding." + tag + at(n, p));
+      }
+    }
+  }
+}
+
+void Transcription::buildProblemConstraints() {
+  // Total time.
+  if (problem_.total_time_kind != TotalTime::Free) {
+    std::vector<int> hs;
+    for (const auto& L : layout_) hs.push_back(L.h);
+    const double T = problem_.total_time;
+    addBlock(std::make_shared<LinearFunction>(Eigen::VectorXd::Ones(hs.size())), hs, T,
+             problem_.total_time_kind == TotalTime::Equal ? T : kInf, "total_time");
+  }
+  // Penalty Σ ε (paper eq. 8).
+  if (!epsilon_.empty())
+    addCost(std::make_shared<LinearFunction>(Eigen::VectorXd::Ones(epsilon_.size())), epsilon_, kPenaltyCost);
+  // Task terms.
+  const CostTerms& cost = problem_.cost;
+  if (cost.effort_weight != 0 && nu_ > 0) {
+    const auto f = std::make_shared<AdFunction<Effort>>(
+        Effort{method_ == Method::FirstOrder ? Eigen::VectorXd::Ones(1) : lg_.b, nu_});
+    for (const auto& L : layout_) {
+      std::vector<int> vars = {L.h};
+      for (int p : L.collocation)
+        for (int i = 0; i < nu_; ++i) vars.push_back(L.points[p].u + i);
+      addCost(std::make_shared<ScaledFunction>(f, cost.effort_weight), vars, kTaskCost);
+    }
+  }
+  if (x_max_ >= 0) {
+    const int i = cost.max_coordinate;
+    for (int n = 0; n < elements(); ++n)
+      for (std::size_t p = 0; p < layout_[n].points.size(); ++p)
+        addBlock(std::make_shared<LinearFunction>(Eigen::Vector2d(1, -1)), {layout_[n].points[p].q + i, x_max_},
+                 -kInf, 0, "max" + at(n, static_cast<int>(p)));
+    addCost(std::make_shared<LinearFunction>(Eigen::VectorXd::Constant(1, cost.max_weight)), {x_max_}, kTaskCost);
+  }
+}
+
+void Transcription::applyBounds() {
+  x_lower_ = Eigen::Map<Eigen::VectorXd>(xl_.data(), xl_.size());
+  x_upper_ = Eigen::Map<Eigen::VectorXd>(xu_.data(), xu_.size());
+  g_lower_ = Eigen::Map<Eigen::VectorXd>(gl_.data(), gl_.size());
+  g_upper_ = Eigen::Map<Eigen::VectorXd>(gu_.data(), gu_.size());
+  const scene::Scene& s = problem_.scene;
+  // Initial state at [0, 0].
+  const auto& p0 = layout_[0].points[0];
+  auto free = [](const std::vector<int>& list, int i) { return std::find(list.begin(), list.end(), i) != list.end(); };
+  for (int i = 0; i < nv_; ++i) {
+    if (!free(problem_.initial_free_q, i)) x_lower_[p0.q + i] = x_upper_[p0.q + i] = s.q0[i];
+    if (!free(problem_.initial_free_v, i)) x_lower_[p0.v + i] = x_upper_[p0.v + i] = s.v0[i];
+  }
+  // Inputs.
+  for (const auto& L : layout_)
+    for (int p : L.collocation)
+      for (int i = 0; i < nu_; ++i) {
+        x_lower_[L.points[p].u + i] = problem_.input_lower.size() ? problem_.input_lower[i] : -kInf;
+        x_upper_[L.points[p].u + i] = problem_.input_upper.size() ? problem_.input_upper[i] : kInf;
+      }
+  // Point bounds: the problem's elements map onto first-order steps (element n ↔ steps
+  // spe·n … spe·n + spe − 1; its mesh points to the first step's start and the last step's end).
+  const int spe = method_ == Method::FirstOrder ? problem_.first_order_steps_per_element : 1;
+  auto apply = [&](const PointBound& b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
+    auto one = [&](int n, int p) {
+      const auto& L = layout_[n];
+      const auto& pt = L.points[p];
+      int var = -1;
+      switch (b.quantity.kind) {
+        case Quantity::Kind::Position: var = pt.q + b.quantity.index; break;
+        case Quantity::Kind::Velocity: var = pt.v + b.quantity.index; break;
+        case Quantity::Kind::Input: var = pt.u >= 0 ? pt.u + b.quantity.index : -1; break;
+        case Quantity::Kind::Gap: var = L.contacts[b.quantity.index].y[p]; break;
+      }
+      if (var < 0) return;  // inputs exist at the collocation points only
+      lo[var] = std::max(lo[var], b.lower);
+      hi[var] = std::min(hi[var], b.upper);
+    };
+    for (int n = 0; n < elements(); ++n) {
+      const int pe = n / spe;  // the problem's element
+      if (b.element >= 0 && b.element != pe) continue;
+      const int npts = static_cast<int>(layout_[n].points.size());
+      for (int p = 0; p < npts; ++p) {
+        if (b.point >= 0) {
+          if (spe == 1) {
+            if (p != b.point) continue;
+          } else {  // first order: the element's start, end, or (collocation points) every step end
+            const bool start = p == 0 && n % spe == 0, end = p == 1 && n % spe == spe - 1;
+            if (b.point == 0 ? !start : b.point == problem_.P + 1 ? !end : p != 1) continue;
+          }
+        }
+        one(n, p);
+      }
+    }
+  };
+  for (const PointBound& b : problem_.bounds) apply(b, x_lower_, x_upper_);
+  x_lower_hint_ = x_lower_;
+  x_upper_hint_ = x_upper_;
+  for (const PointBound& b : problem_.hints) apply(b, x_lower_hint_, x_upper_hint_);
+  for (int i = 0; i < variables(); ++i)
+    if (x_lower_[i] > x_upper_[i] || x_lower_hint_[i] > x_upper_hint_[i])
+      throw std::invalid_argument("the bounds on " + x_names_[i] + " are contradictory: [" +
+                                  std::to_string(x_lower_hint_[i]) + ", " + std::to_string(x_upper_hint_[i]) + "]");
+}
+
+Eigen::Vector3d Transcription::surfaceVelocity(int surface, int element) const {
+  const auto it = problem_.surface_steps.find(surface);
+  if (it == problem_.surface_steps.end() || it->second.empty())
+    return problem_.scene.surfaces.at(surface).velocity(0.0);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (const SurfaceStep& s : it->second)
+    if (s.element <= element) v = s.velocity;
+  return v;
+}
+
+double Transcription::largestProduct(const Eigen::VectorXd& x) const {
+  double worst = 0;
+  Eigen::VectorXd local;
+  for (int b : product_blocks_) {
+    const Block& blk = blocks_[b];
+    local.resize(blk.vars.size());
+    for (std::size_t i = 0; i < blk.vars.size(); ++i) local[i] = x[blk.vars[i]];
+    worst = std::max(worst, static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
+  }
+  return worst;
+}
+
+void Transcription::makeConsistent(Eigen::VectorXd& x) const {
+  auto& data = models_->data<double>();
+  for (const auto& L : layout_)
+    for (std::size_t p = 0; p < L.points.size(); ++p) {
+      dynamics::forwardKinematics(models_->model<double>(), data, x.segment(L.points[p].q, nv_));
+      for (std::size_t c = 0; c < contacts_.size(); ++c)
+        x[L.contacts[c].y[p]] = std::max(0.0, contacts_[c].gap(data, x.data() + L.points[p].q));
+    }
+  x = x.cwiseMax(x_lower_hint_).cwiseMin(x_upper_hint_);
+}
+
+Eigen::VectorXd Transcription::nullSeed() const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(variables());
+  for (const auto& L : layout_) {
+    x[L.h] = 0.5 * (x_lower_[L.h] + x_upper_[L.h]);
+  }
+  makeConsistent(x);
+  return x;
+}
+
+Eigen::VectorXd Transcription::perturb(const Eigen::VectorXd& x0, double scale, unsigned seed) const {
+  Eigen::VectorXd x = x0;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, scale);
+  for (const auto& L : layout_) {
+    for (const auto& pt : L.points)
+      for (int i = 0; i < nv_; ++i) x[pt.q + i] += U(rng);
+    for (const auto& C : L.contacts)
+      for (int r : C.rn)
+        if (r >= 0) x[r] += U(rng);
+  }
+  makeConsistent(x);
+  return x;
+}
+
+}  // namespace saltus::collocation

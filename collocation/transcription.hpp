@@ -1,0 +1,141 @@
+// The transcription of a Problem (problem.hpp) to a nonlinear program for one method: the
+// variables with their bounds, the constraints as blocks of local functions
+// (local_function.hpp, functions.hpp) with their bounds, the cost terms, and the layout that
+// tells where each state, input and reaction lives. The NLP (nlp.hpp) evaluates it for Ipopt.
+//
+// impulsive (paper LG-P I), per element n with points p = 0 … P+1:
+//   (3), (4)  integration of q and q̇ (q̈ at the collocation points)
+//   (5)       q[n,0] = q[n−1,P+1]; q̇[n,0] = q̇[n−1,P+1] + Δq̇[n]   (Δq̇ is "q̈[n,0]")
+//   (6)       M(q[n,0]) Δq̇[n] = Σ J_cᵀ p_c[n,0]                   (n ≥ 1)
+//   EOM       M q̈ + h = B u + Σ J_cᵀ f_c at the collocation points
+//   (9a–c)    a⁺ − a⁻ = ẏ[n,0] + e ẏ[n−1,P+1];  r_n[n,0] ⊥ y[n,0] + a⁺ + a⁻;  and a⁺ ⊥ a⁻
+//   (10)      r_n[n,p] ⊥ Σ_{i=0}^{P+1} y[n,i]               (p = 1 … P)
+//   (11–13)   r_t = μ r_n Σ d_i α_i;  α_i ⊥ γ − d_iᵀ v_t;  Σ_p γ[n,p] ⊥ 1 − Σ_i α_i[n,p]
+//             at the points that carry reactions (the collocation points, and [n,0] for n ≥ 1;
+//             the sum in (13) runs over those points)
+// continuous (LG-P C): the same without Δq̇, the impulse and (9); contact through (10) only.
+// first-order (Posa, Cantu & Tedrake 2014): K = steps_per_element · N backward-Euler steps,
+//   q[k+1] = q[k] + h q̇[k+1], q̇[k+1] = q̇[k] + h q̈[k+1], EOM at k+1 with λ_n, β_i ≥ 0;
+//   φ(q[k+1]) ⊥ λ_n;  γ + d_iᵀ v_t ⊥ β_i;  μ λ_n − Σ β_i ⊥ γ.
+// Every product A·B ≤ ε with ε ≥ 0 a variable (paper eq. 8), penalised in the cost.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collocation/functions.hpp"
+#include "collocation/legendre_gauss.hpp"
+#include "collocation/problem.hpp"
+
+namespace saltus::collocation {
+
+// A group of constraint rows [row, row + outputs) or a cost term (row < 0) given by one local
+// function of the variables `vars`.
+struct Block {
+  std::shared_ptr<const LocalFunction> f;
+  std::vector<int> vars;
+  int row = -1;
+  int cost_group = -1;  // cost terms: CostGroup
+};
+
+enum CostGroup { kPenaltyCost = 0, kTaskCost = 1 };
+
+// Where the variables of one element live (−1: absent).
+struct ElementLayout {
+  int h = -1;
+  std::vector<double> tau;  // point positions in the element, [0, 1]
+  struct Point {
+    int q = -1, v = -1;  // first of nv
+    int a = -1;          // q̈ (collocation points) or Δq̇ (impulsive [n, 0])
+    int u = -1;          // first input (collocation points)
+  };
+  std::vector<Point> points;
+  std::vector<int> collocation;  // indices of the collocation points in `points`
+  int end = -1;                  // index of the end mesh point
+  struct ContactVars {
+    std::vector<int> y;      // gap, per point
+    std::vector<int> rn;     // normal reaction (impulse at an impulsive [n, 0]), per point, −1 where none
+    std::vector<int> t;      // first tangential variable (α or β), per point
+    std::vector<int> gamma;  // slip-speed bound γ, per point
+    int a_plus = -1, a_minus = -1;  // (9)
+  };
+  std::vector<ContactVars> contacts;
+};
+
+class Transcription {
+ public:
+  Transcription(const Problem& problem, Method method);
+
+  const Problem& problem() const { return problem_; }
+  Method method() const { return method_; }
+  const ModelSet& models() const { return *models_; }
+  const std::vector<ContactPoint>& contacts() const { return contacts_; }
+  const LegendreGauss& lg() const { return lg_; }
+  int elements() const { return static_cast<int>(layout_.size()); }
+  const std::vector<ElementLayout>& layout() const { return layout_; }
+
+  int variables() const { return static_cast<int>(x_lower_.size()); }
+  int constraints() const { return static_cast<int>(g_lower_.size()); }
+  const std::vector<std::string>& variableNames() const { return x_names_; }
+  const Eigen::VectorXd& variableLower() const { return x_lower_; }
+  const Eigen::VectorXd& variableUpper() const { return x_upper_; }
+  // Bounds with the hints (feasibility stage only) applied.
+  const Eigen::VectorXd& hintedLower() const { return x_lower_hint_; }
+  const Eigen::VectorXd& hintedUpper() const { return x_upper_hint_; }
+  const Eigen::VectorXd& constraintLower() const { return g_lower_; }
+  const Eigen::VectorXd& constraintUpper() const { return g_upper_; }
+  const std::vector<Block>& blocks() const { return blocks_; }  // constraints, then cost terms
+  const std::vector<std::string>& constraintNames() const { return g_names_; }
+
+  // The complementarity products (paper eq. 8): their blocks and penalty variables ε.
+  const std::vector<int>& productBlocks() const { return product_blocks_; }
+  const std::vector<int>& penaltyVariables() const { return epsilon_; }
+  // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance).
+  double largestProduct(const Eigen::VectorXd& x) const;
+
+  // The surface velocity a contact sees at element n (steps on the mesh, problem.hpp).
+  Eigen::Vector3d surfaceVelocity(int surface, int element) const;
+
+  // The paper's null seed: positions at the initial state, velocities and reactions zero,
+  // h = h_max; gap variables consistent with the positions.
+  Eigen::VectorXd nullSeed() const;
+  // Uniform random values in [0, scale] added to positions and normal reactions (paper §V.C),
+  // then gaps recomputed; a fixed random seed makes it reproducible.
+  Eigen::VectorXd perturb(const Eigen::VectorXd& x, double scale, unsigned seed) const;
+  // Gap variables set from the positions (clipped at 0), and variables projected into bounds.
+  void makeConsistent(Eigen::VectorXd& x) const;
+
+ private:
+  int addVariables(int count, double lower, double upper, const std::string& name);
+  int addBlock(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, double lower, double upper,
+               const std::string& name);
+  void addCost(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, CostGroup group);
+  int addProduct(const std::vector<int>& a_vars, const Eigen::VectorXd& a, double a0,
+                 const std::vector<int>& b_vars, const Eigen::VectorXd& b, double b0, const std::string& name);
+  void addLinearEquality(const std::vector<int>& vars, const Eigen::VectorXd& c, double rhs, const std::string& name);
+
+  void buildContacts();
+  void buildVariables();
+  void buildElementConstraints(int n);
+  void buildContactConstraints(int n);
+  void buildProblemConstraints();
+  void applyBounds();
+
+  const Problem& problem_;
+  Method method_;
+  std::unique_ptr<ModelSet> models_;
+  std::vector<ContactPoint> contacts_;
+  LegendreGauss lg_;
+  int nv_ = 0, nu_ = 0;
+  std::vector<ElementLayout> layout_;
+  int x_max_ = -1;  // minimise-max variable
+
+  std::vector<std::string> x_names_, g_names_;
+  Eigen::VectorXd x_lower_, x_upper_, x_lower_hint_, x_upper_hint_, g_lower_, g_upper_;
+  std::vector<double> xl_, xu_, gl_, gu_;  // while building
+  std::vector<Block> blocks_;
+  std::vector<int> product_blocks_, epsilon_;
+};
+
+}  // namespace saltus::collocation
