@@ -97,7 +97,12 @@ struct Problem {
   std::vector<int> initial_free_q, initial_free_v;
   std::vector<PointBound> bounds;  // final conditions, task constraints, box bounds
   std::vector<PointBound> hints;   // feasibility stage only (a seeding aid, paper §VI)
-  std::map<int, std::vector<SurfaceStep>> surface_steps;  // per surface index; empty: constant velocity
+  // Per surface index, the surface's velocity on the mesh (at rest before the first step); no
+  // entry: constant velocity, scene.surfaces[s].velocity(0). A problem file's surface_velocity
+  // fills it (and clears that surface's time schedule), and a surface whose schedule is
+  // constant and non-zero from t = 0 gets one step at element 0, so from a file no entry means
+  // at rest.
+  std::map<int, std::vector<SurfaceStep>> surface_steps;
 
   CostTerms cost;
 

@@ -1,0 +1,564 @@
+#include "collocation/problem_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+#include "scene/scenario.hpp"
+#include "scene/yaml_reader.hpp"
+
+namespace saltus::collocation {
+
+namespace fs = std::filesystem;
+using scene::describe;
+using scene::fmt;
+using scene::indexPath;
+using scene::joinNames;
+using scene::keyPath;
+using scene::suggestion;
+using scene::YamlReader;
+
+namespace {
+
+// The scene keys a problem file shares with scenario files (`input` and `duration` are refused:
+// see refuseSceneOnlyKeys), and the keys of the problem itself.
+const std::vector<std::string> kSceneKeys = {"name",    "description", "parameters",   "model",
+                                             "base",    "gravity",     "initial",      "surfaces",
+                                             "contacts", "joint_limits", "limit_restitution"};
+const std::vector<std::string> kProblemKeys = {"mesh",   "inputs", "initial_free",     "final",
+                                               "bounds", "constraints", "hints", "surface_velocity",
+                                               "cost",   "solve",  "ipopt"};
+const std::vector<std::string> kConditionKeys = {"q", "v", "u", "gap"};
+
+bool isInfinity(const std::string& s, bool& negative) {
+  static const std::set<std::string> pos = {".inf", ".Inf", ".INF", "+.inf", "+.Inf", "+.INF"};
+  static const std::set<std::string> neg = {"-.inf", "-.Inf", "-.INF"};
+  negative = neg.count(s) > 0;
+  return negative || pos.count(s) > 0;
+}
+
+// Reads the problem keys of a problem file into `p`, whose scene is already read.
+class ProblemReader {
+ public:
+  ProblemReader(YamlReader& reader, Problem& problem) : r_(reader), p_(problem) {}
+
+  void read(const YAML::Node& root);
+
+ private:
+  void readMesh(const YAML::Node& node);
+  void readInputs(const YAML::Node& node);
+  void readInitialFree(const YAML::Node& node);
+  std::vector<int> readCoordinateList(const YAML::Node& node, const std::string& path);
+  void readConditions(const YAML::Node& map, const std::string& path, int element, int point,
+                      std::vector<PointBound>& out);
+  void readPointConditions(const YAML::Node& node, const std::string& path, std::vector<PointBound>& out);
+  std::pair<int, int> readAt(const YAML::Node& entry, const std::string& path);
+  void readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root);
+  void readCost(const YAML::Node& node);
+  void readSolve(const YAML::Node& node);
+  void readIpopt(const YAML::Node& node);
+
+  int coordinate(const YAML::Node& name_node, const std::string& path) const;
+  int input(const YAML::Node& name_node, const std::string& path) const;
+  int gapIndex(const YAML::Node& name_node, const std::string& path) const;
+  // One side of a range: a number, null (unbounded) or ±.inf.
+  double bound(const YAML::Node& n, const std::string& path, double unbounded);
+  // A number (fixes the value: lower = upper) or [lower, upper].
+  void readRange(const YAML::Node& n, const std::string& path, double& lower, double& upper);
+  std::string origin(const YAML::Node& n) const {
+    const YAML::Mark m = n.Mark();
+    return m.is_null() || m.line < 0 ? r_.file() : r_.file() + ":" + std::to_string(m.line + 1);
+  }
+
+  YamlReader& r_;
+  Problem& p_;
+};
+
+int ProblemReader::coordinate(const YAML::Node& name_node, const std::string& path) const {
+  const std::string name = r_.text(name_node, path);
+  const dynamics::Model<double>& model = p_.scene.model;
+  const int i = model.coordinateIndex(name);
+  if (i < 0)
+    r_.fail(name_node, path, "unknown coordinate '" + name + "'" + suggestion(name, model.coordinate_name) +
+                                 "; the model's coordinates are: " + joinNames(model.coordinate_name));
+  return i;
+}
+
+int ProblemReader::input(const YAML::Node& name_node, const std::string& path) const {
+  const std::string name = r_.text(name_node, path);
+  std::vector<std::string> names;
+  for (int i : p_.inputs) names.push_back(p_.scene.model.coordinate_name[i]);
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    const bool is_coordinate = p_.scene.model.coordinateIndex(name) >= 0;
+    r_.fail(name_node, path,
+            (is_coordinate ? "coordinate '" + name + "' is not actuated (list it under `inputs`)"
+                           : "unknown input '" + name + "'" + suggestion(name, names)) +
+                "; the inputs are: " + joinNames(names));
+  }
+  return static_cast<int>(it - names.begin());
+}
+
+int ProblemReader::gapIndex(const YAML::Node& name_node, const std::string& path) const {
+  const std::string name = r_.text(name_node, path);
+  std::vector<std::string> names;
+  for (const scene::Contact& c : p_.scene.contacts) names.push_back(c.name);
+  for (const scene::LimitStop& s : p_.scene.limits) names.push_back(s.name);
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end())
+    r_.fail(name_node, path, "unknown contact '" + name + "'" + suggestion(name, names) +
+                                 "; the scene's contacts and joint-limit stops are: " + joinNames(names));
+  return static_cast<int>(it - names.begin());
+}
+
+double ProblemReader::bound(const YAML::Node& n, const std::string& path, double unbounded) {
+  if (n.IsNull()) return unbounded;
+  bool negative = false;
+  if (n.IsScalar() && isInfinity(n.Scalar(), negative)) return negative ? -kInf : kInf;
+  return r_.number(n, path);
+}
+
+void ProblemReader::readRange(const YAML::Node& n, const std::string& path, double& lower, double& upper) {
+  if (n.IsScalar()) {
+    lower = upper = r_.number(n, path);
+    return;
+  }
+  if (!n.IsSequence() || n.size() != 2)
+    r_.fail(n, path, "expected a number (fixes the value) or [lower, upper] (null or .inf for no bound), got " +
+                         (n.IsSequence() ? "a sequence of " + std::to_string(n.size()) : describe(n)));
+  lower = bound(n[0], indexPath(path, 0), -kInf);
+  upper = bound(n[1], indexPath(path, 1), kInf);
+  if (lower == kInf) r_.fail(n[0], indexPath(path, 0), "a lower bound of +infinity admits no value");
+  if (upper == -kInf) r_.fail(n[1], indexPath(path, 1), "an upper bound of -infinity admits no value");
+  if (lower > upper)
+    r_.fail(n, path, "the lower bound " + fmt(lower) + " exceeds the upper bound " + fmt(upper));
+}
+
+void ProblemReader::readMesh(const YAML::Node& node) {
+  r_.checkMap(node, "mesh", {"N", "P", "h_max", "h_min_ratio", "total_time", "first_order_steps_per_element"});
+  const YAML::Node n = r_.required(node, "mesh", "N");
+  p_.N = r_.integer(n, "mesh.N");
+  if (p_.N < 1) r_.fail(n, "mesh.N", "the number of finite elements must be at least 1, got " + std::to_string(p_.N));
+  if (node["P"].IsDefined()) {
+    p_.P = r_.integer(node["P"], "mesh.P");
+    if (p_.P < 1 || p_.P > 9)
+      r_.fail(node["P"], "mesh.P", "the number of collocation points per element must be an integer in [1, 9], got " +
+                                       std::to_string(p_.P));
+  }
+  const YAML::Node h = r_.required(node, "mesh", "h_max");
+  p_.h_max = r_.number(h, "mesh.h_max");
+  if (!(p_.h_max > 0)) r_.fail(h, "mesh.h_max", "the largest element length must be positive, got " + fmt(p_.h_max));
+  p_.h_min_ratio = r_.number(node, "mesh", "h_min_ratio", p_.h_min_ratio);
+  if (!(p_.h_min_ratio > 0 && p_.h_min_ratio <= 1))
+    r_.fail(node["h_min_ratio"], "mesh.h_min_ratio",
+            "the shortest element length as a fraction of h_max must be in (0, 1], got " + fmt(p_.h_min_ratio));
+  if (node["first_order_steps_per_element"].IsDefined()) {
+    const YAML::Node s = node["first_order_steps_per_element"];
+    p_.first_order_steps_per_element = r_.integer(s, "mesh.first_order_steps_per_element");
+    if (p_.first_order_steps_per_element < 1)
+      r_.fail(s, "mesh.first_order_steps_per_element",
+              "expected an integer of at least 1, got " + std::to_string(p_.first_order_steps_per_element));
+  }
+
+  const YAML::Node t = node["total_time"];
+  p_.total_time_kind = TotalTime::Free;
+  p_.total_time = 0;
+  if (!t.IsDefined() || t.IsNull()) return;
+  r_.checkMap(t, "mesh.total_time", {"at_least", "equal"});
+  if (t.size() != 1)
+    r_.fail(t, "mesh.total_time", "expected exactly one of: at_least, equal (or no total_time: free)");
+  const double longest = p_.N * p_.h_max, shortest = p_.N * p_.h_min_ratio * p_.h_max;
+  if (t["at_least"].IsDefined()) {
+    p_.total_time_kind = TotalTime::AtLeast;
+    p_.total_time = r_.number(t["at_least"], "mesh.total_time.at_least");
+    if (!(p_.total_time >= 0))
+      r_.fail(t["at_least"], "mesh.total_time.at_least", "the total time must be non-negative, got " + fmt(p_.total_time));
+    if (p_.total_time > longest)
+      r_.fail(t["at_least"], "mesh.total_time.at_least",
+              "a total time of at least " + fmt(p_.total_time) + " s cannot be reached: N h_max = " + fmt(longest) + " s");
+  } else {
+    p_.total_time_kind = TotalTime::Equal;
+    p_.total_time = r_.number(t["equal"], "mesh.total_time.equal");
+    if (!(p_.total_time >= shortest && p_.total_time <= longest))
+      r_.fail(t["equal"], "mesh.total_time.equal",
+              "a total time of " + fmt(p_.total_time) + " s is outside what the mesh allows: [N h_min_ratio h_max, N h_max] = [" +
+                  fmt(shortest) + ", " + fmt(longest) + "] s");
+  }
+}
+
+void ProblemReader::readInputs(const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) {
+    p_.input_lower.resize(0);
+    p_.input_upper.resize(0);
+    return;
+  }
+  std::vector<double> lower, upper;
+  auto add = [&](const YAML::Node& name_node, const std::string& path) {
+    const int i = coordinate(name_node, path);
+    if (std::find(p_.inputs.begin(), p_.inputs.end(), i) != p_.inputs.end())
+      r_.fail(name_node, path, "coordinate '" + p_.scene.model.coordinate_name[i] + "' is listed twice");
+    p_.inputs.push_back(i);
+    const double effort = p_.scene.model.limits[i].effort;
+    lower.push_back(std::isfinite(effort) ? -effort : -kInf);
+    upper.push_back(std::isfinite(effort) ? effort : kInf);
+  };
+  if (node.IsSequence()) {
+    for (std::size_t j = 0; j < node.size(); ++j) add(node[j], indexPath("inputs", j));
+  } else {
+    if (!node.IsMap())
+      r_.fail(node, "inputs", "expected a list of coordinate names or a map name: {lower, upper}, got " + describe(node));
+    r_.checkNameMap(node, "inputs");
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string path = keyPath("inputs", it->first.Scalar());
+      add(it->first, path);
+      const YAML::Node b = it->second;
+      r_.checkMap(b, path, {"lower", "upper"}, true);
+      if (b.IsNull()) continue;
+      if (b["lower"].IsDefined()) lower.back() = bound(b["lower"], keyPath(path, "lower"), -kInf);
+      if (b["upper"].IsDefined()) upper.back() = bound(b["upper"], keyPath(path, "upper"), kInf);
+      if (lower.back() > upper.back())
+        r_.fail(b, path, "the lower bound " + fmt(lower.back()) + " exceeds the upper bound " + fmt(upper.back()));
+    }
+  }
+  p_.input_lower = Eigen::Map<Eigen::VectorXd>(lower.data(), static_cast<Eigen::Index>(lower.size()));
+  p_.input_upper = Eigen::Map<Eigen::VectorXd>(upper.data(), static_cast<Eigen::Index>(upper.size()));
+}
+
+std::vector<int> ProblemReader::readCoordinateList(const YAML::Node& node, const std::string& path) {
+  std::vector<int> out;
+  if (!node.IsDefined() || node.IsNull()) return out;
+  r_.checkSequence(node, path);
+  for (std::size_t j = 0; j < node.size(); ++j) {
+    const std::string p = indexPath(path, j);
+    const int i = coordinate(node[j], p);
+    if (std::find(out.begin(), out.end(), i) != out.end())
+      r_.fail(node[j], p, "coordinate '" + p_.scene.model.coordinate_name[i] + "' is listed twice");
+    out.push_back(i);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void ProblemReader::readInitialFree(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  r_.checkMap(node, "initial_free", {"q", "v"}, true);
+  if (node.IsNull()) return;
+  p_.initial_free_q = readCoordinateList(node["q"], "initial_free.q");
+  p_.initial_free_v = readCoordinateList(node["v"], "initial_free.v");
+}
+
+// The q, v, u and gap keys of `map` (already checked for unknown keys), as PointBounds at
+// [element, point].
+void ProblemReader::readConditions(const YAML::Node& map, const std::string& path, int element, int point,
+                                   std::vector<PointBound>& out) {
+  for (const std::string& key : kConditionKeys) {
+    const YAML::Node n = map[key];
+    if (!n.IsDefined()) continue;
+    const std::string kpath = keyPath(path, key);
+    r_.checkNameMap(n, kpath);
+    if (n.IsNull()) continue;
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string p = keyPath(kpath, it->first.Scalar());
+      PointBound b;
+      b.element = element;
+      b.point = point;
+      if (key == "q") b.quantity = {Quantity::Kind::Position, coordinate(it->first, p)};
+      if (key == "v") b.quantity = {Quantity::Kind::Velocity, coordinate(it->first, p)};
+      if (key == "u") b.quantity = {Quantity::Kind::Input, input(it->first, p)};
+      if (key == "gap") b.quantity = {Quantity::Kind::Gap, gapIndex(it->first, p)};
+      readRange(it->second, p, b.lower, b.upper);
+      b.origin = origin(it->second);
+      out.push_back(b);
+    }
+  }
+}
+
+// `at: [n, p]` of a list entry: 1-based element n ∈ [1, N], point p ∈ [0, P + 1]; returns the
+// 0-based element and the point.
+std::pair<int, int> ProblemReader::readAt(const YAML::Node& entry, const std::string& path) {
+  const YAML::Node at = r_.required(entry, path, "at");
+  const std::string apath = keyPath(path, "at");
+  if (!at.IsSequence() || at.size() != 2)
+    r_.fail(at, apath, "expected [element, point], e.g. [6, 0] (elements numbered from 1 as in the paper), got " +
+                           (at.IsSequence() ? "a sequence of " + std::to_string(at.size()) : describe(at)));
+  const int n = r_.integer(at[0], indexPath(apath, 0)), pt = r_.integer(at[1], indexPath(apath, 1));
+  if (n < 1 || n > p_.N)
+    r_.fail(at[0], apath, "element " + std::to_string(n) + " is not in [1, " + std::to_string(p_.N) +
+                              "] (elements are numbered from 1 as in the paper, up to mesh.N = " + std::to_string(p_.N) + ")");
+  if (pt < 0 || pt > p_.P + 1)
+    r_.fail(at[1], apath, "point " + std::to_string(pt) + " is not in [0, " + std::to_string(p_.P + 1) +
+                              "] (0: the element's first mesh point, 1 to P = " + std::to_string(p_.P) +
+                              ": its collocation points, P + 1 = " + std::to_string(p_.P + 1) + ": its last mesh point)");
+  return {n - 1, pt};
+}
+
+void ProblemReader::readPointConditions(const YAML::Node& node, const std::string& path, std::vector<PointBound>& out) {
+  if (!node.IsDefined()) return;
+  r_.checkSequence(node, path);
+  std::vector<std::string> keys = {"at"};
+  keys.insert(keys.end(), kConditionKeys.begin(), kConditionKeys.end());
+  for (std::size_t j = 0; j < node.size(); ++j) {
+    const YAML::Node e = node[j];
+    const std::string p = indexPath(path, j);
+    r_.checkMap(e, p, keys);
+    const auto [element, point] = readAt(e, p);
+    if (e.size() < 2) r_.fail(e, p, "nothing to impose at this point: give one or more of q, v, u, gap");
+    readConditions(e, p, element, point, out);
+  }
+}
+
+void ProblemReader::readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root) {
+  std::vector<std::string> names;
+  for (const scene::Surface& s : p_.scene.surfaces) names.push_back(s.name);
+  std::set<int> given;
+  if (node.IsDefined()) {
+    r_.checkNameMap(node, "surface_velocity");
+    if (node.IsMap()) {
+      for (auto it = node.begin(); it != node.end(); ++it) {
+        const std::string name = it->first.Scalar(), path = keyPath("surface_velocity", name);
+        const auto found = std::find(names.begin(), names.end(), name);
+        if (found == names.end())
+          r_.fail(it->first, path, "unknown surface '" + name + "'" + suggestion(name, names) +
+                                       "; the scene's surfaces are: " + joinNames(names));
+        const int s = static_cast<int>(found - names.begin());
+        scene::Surface& surface = p_.scene.surfaces[s];
+        const YAML::Node list = it->second;
+        if (!list.IsSequence() || list.size() == 0)
+          r_.fail(list, path, "expected a list of steps {at: [n, 0], velocity: [x, y, z]}, got " +
+                                  (list.IsSequence() ? "an empty list" : describe(list)));
+        std::vector<SurfaceStep> steps;
+        for (std::size_t j = 0; j < list.size(); ++j) {
+          const YAML::Node e = list[j];
+          const std::string p = indexPath(path, j);
+          r_.checkMap(e, p, {"at", "velocity"});
+          const auto [element, point] = readAt(e, p);
+          if (point != 0)
+            r_.fail(e["at"][1], keyPath(p, "at"),
+                    "a surface's velocity steps at a mesh point [n, 0] (the start of element n), got point " +
+                        std::to_string(point) + ": the velocity is constant through each element");
+          if (!steps.empty() && element <= steps.back().element)
+            r_.fail(e["at"][0], keyPath(p, "at"),
+                    "elements must increase along the steps: element " + std::to_string(element + 1) + " follows " +
+                        std::to_string(steps.back().element + 1));
+          SurfaceStep step;
+          step.element = element;
+          const YAML::Node v = r_.required(e, p, "velocity");
+          step.velocity = r_.vec3(v, keyPath(p, "velocity"));
+          const double vn = surface.normal.dot(step.velocity);
+          if (std::abs(vn) > 1e-9 * std::max(1.0, step.velocity.norm()))
+            r_.fail(v, keyPath(p, "velocity"),
+                    "the surface velocity " + fmt(step.velocity) + " must be tangent to the plane (normal " +
+                        fmt(surface.normal) + "): its normal component is " + fmt(vn) + " m/s");
+          steps.push_back(step);
+        }
+        p_.surface_steps[s] = steps;
+        surface.velocity_schedule.clear();  // replaced by the steps on the mesh
+        given.insert(s);
+      }
+    }
+  }
+  // A surface left to its time schedule must not change velocity after t = 0; a constant
+  // non-zero velocity becomes one step at the first element.
+  for (int s = 0; s < static_cast<int>(p_.scene.surfaces.size()); ++s) {
+    if (given.count(s)) continue;
+    const scene::Surface& surface = p_.scene.surfaces[s];
+    Eigen::Vector3d before = Eigen::Vector3d::Zero();
+    for (std::size_t j = 0; j < surface.velocity_schedule.size(); ++j) {
+      const scene::Surface::Step& step = surface.velocity_schedule[j];
+      if (step.time > 0 && step.velocity != before) {
+        const std::string path = keyPath(indexPath(keyPath(indexPath("surfaces", s), "velocity_schedule"), j), "time");
+        r_.fail(root["surfaces"][s]["velocity_schedule"][j]["time"], path,
+                "surface '" + surface.name + "' changes velocity to " + fmt(step.velocity) + " at t = " +
+                    fmt(step.time) + " s, but in a problem the element lengths are variables, so the time of a step is "
+                    "not known in advance: give the steps at mesh points under surface_velocity." + surface.name +
+                    " (e.g. - {at: [6, 0], velocity: " + fmt(step.velocity) + "})");
+      }
+      before = step.velocity;
+    }
+    const Eigen::Vector3d v0 = surface.velocity(0);
+    if (!v0.isZero()) p_.surface_steps[s] = {SurfaceStep{0, v0}};
+  }
+}
+
+void ProblemReader::readCost(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  r_.checkMap(node, "cost", {"penalty_weight", "effort", "minimise_max"}, true);
+  if (node.IsNull()) return;
+  CostTerms& c = p_.cost;
+  c.penalty_weight = r_.number(node, "cost", "penalty_weight", c.penalty_weight);
+  if (!(c.penalty_weight >= 0))
+    r_.fail(node["penalty_weight"], "cost.penalty_weight", "a weight must be non-negative, got " + fmt(c.penalty_weight));
+  c.effort_weight = r_.number(node, "cost", "effort", c.effort_weight);
+  if (!(c.effort_weight >= 0))
+    r_.fail(node["effort"], "cost.effort", "a weight must be non-negative, got " + fmt(c.effort_weight));
+  if (c.effort_weight > 0 && p_.inputs.empty())
+    r_.fail(node["effort"], "cost.effort", "an effort cost needs inputs: list the actuated coordinates under `inputs`");
+  const YAML::Node m = node["minimise_max"];
+  if (m.IsDefined()) {
+    r_.checkMap(m, "cost.minimise_max", {"coordinate", "weight"});
+    c.max_coordinate = coordinate(r_.required(m, "cost.minimise_max", "coordinate"), "cost.minimise_max.coordinate");
+    c.max_weight = r_.number(m, "cost.minimise_max", "weight", 1.0);
+    if (!(c.max_weight >= 0))
+      r_.fail(m["weight"], "cost.minimise_max.weight", "a weight must be non-negative, got " + fmt(c.max_weight));
+  }
+}
+
+void ProblemReader::readSolve(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  r_.checkMap(node, "solve",
+              {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
+               "hessian", "derivative_check"},
+              true);
+  if (node.IsNull()) return;
+  p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
+  if (!(p_.complementarity_tolerance > 0))
+    r_.fail(node["complementarity_tolerance"], "solve.complementarity_tolerance",
+            "the tolerance must be positive, got " + fmt(p_.complementarity_tolerance));
+  if (node["task_stage"].IsDefined()) p_.task_stage = r_.boolean(node["task_stage"], "solve.task_stage");
+  if (const YAML::Node s = node["seed"]; s.IsDefined()) {
+    const std::string kind = s.IsNull() ? "null" : r_.text(s, "solve.seed");
+    if (kind == "null") p_.seed_kind = SeedKind::Null;
+    else if (kind == "perturbed") p_.seed_kind = SeedKind::Perturbed;
+    else if (kind == "solution") p_.seed_kind = SeedKind::Solution;
+    else
+      r_.fail(s, "solve.seed", "unknown seed '" + kind + "'" + suggestion(kind, {"null", "perturbed", "solution"}) +
+                                   "; expected one of: null, perturbed, solution");
+  }
+  p_.seed_scale = r_.number(node, "solve", "seed_scale", p_.seed_scale);
+  if (!(p_.seed_scale >= 0))
+    r_.fail(node["seed_scale"], "solve.seed_scale", "the seed scale must be non-negative, got " + fmt(p_.seed_scale));
+  if (const YAML::Node s = node["random_seed"]; s.IsDefined()) {
+    const int seed = r_.integer(s, "solve.random_seed");
+    if (seed < 0) r_.fail(s, "solve.random_seed", "expected a non-negative integer, got " + std::to_string(seed));
+    p_.random_seed = static_cast<unsigned>(seed);
+  }
+  if (const YAML::Node s = node["seed_solution"]; s.IsDefined()) {
+    fs::path path = r_.text(s, "solve.seed_solution");
+    if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
+    p_.seed_solution = path.lexically_normal().string();
+  }
+  if (p_.seed_kind == SeedKind::Solution && p_.seed_solution.empty())
+    r_.fail(node, "solve.seed_solution",
+            "seed: solution needs seed_solution: the directory (or trajectory.csv) of an earlier solution, relative "
+            "to the problem file");
+  if (const YAML::Node h = node["hessian"]; h.IsDefined()) {
+    const std::string kind = r_.text(h, "solve.hessian");
+    if (kind != "exact" && kind != "limited-memory")
+      r_.fail(h, "solve.hessian", "unknown hessian '" + kind + "'" + suggestion(kind, {"exact", "limited-memory"}) +
+                                      "; expected one of: exact, limited-memory");
+    p_.exact_hessian = kind == "exact";
+  }
+  if (node["derivative_check"].IsDefined())
+    p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");
+}
+
+void ProblemReader::readIpopt(const YAML::Node& node) {
+  if (!node.IsDefined()) return;
+  r_.checkNameMap(node, "ipopt");
+  if (node.IsNull()) return;
+  const std::map<std::string, std::string> owned = {{"hessian_approximation", "solve.hessian"},
+                                                    {"derivative_test", "solve.derivative_check"}};
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string name = it->first.Scalar(), path = keyPath("ipopt", name);
+    if (const auto o = owned.find(name); o != owned.end())
+      r_.fail(it->first, path, "set this through " + o->second + " instead");
+    if (!it->second.IsScalar())
+      r_.fail(it->second, path, "expected the option's value (a number or a word), got " + describe(it->second));
+    p_.ipopt_options[name] = it->second.Scalar();
+  }
+}
+
+// `input` and `duration` are scenario keys with no meaning in a problem.
+void refuseSceneOnlyKeys(const YamlReader& r, const YAML::Node& root) {
+  if (root["input"].IsDefined())
+    r.fail(YamlReader::keyMark(root, "input"), "input",
+           "a problem has no constant input: list the actuated coordinates under `inputs` (the optimiser "
+           "chooses their forces), with bounds there or under `bounds.u`");
+  if (root["duration"].IsDefined())
+    r.fail(YamlReader::keyMark(root, "duration"), "duration",
+           "a problem has no fixed duration: the element lengths are variables; give the horizon with "
+           "mesh.N, mesh.h_max and mesh.total_time ({at_least: T} or {equal: T})");
+}
+
+void ProblemReader::read(const YAML::Node& root) {
+  readMesh(r_.required(root, "", "mesh"));
+  readInputs(root["inputs"]);
+  readInitialFree(root["initial_free"]);
+  if (const YAML::Node f = root["final"]; f.IsDefined()) {
+    r_.checkMap(f, "final", kConditionKeys, true);
+    if (!f.IsNull()) readConditions(f, "final", p_.N - 1, p_.P + 1, p_.bounds);
+  }
+  if (const YAML::Node b = root["bounds"]; b.IsDefined()) {
+    r_.checkMap(b, "bounds", kConditionKeys, true);
+    if (!b.IsNull()) readConditions(b, "bounds", -1, -1, p_.bounds);
+  }
+  readPointConditions(root["constraints"], "constraints", p_.bounds);
+  readPointConditions(root["hints"], "hints", p_.hints);
+  readSurfaceVelocity(root["surface_velocity"], root);
+  readCost(root["cost"]);
+  readSolve(root["solve"]);
+  readIpopt(root["ipopt"]);
+}
+
+bool looksLikePath(const std::string& s) {
+  auto ends = [&](const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return s.find('/') != std::string::npos || ends(".yaml") || ends(".yml");
+}
+
+}  // namespace
+
+std::string problemsDirectory() {
+  if (const char* env = std::getenv("SALTUS_PROBLEMS_DIR"); env && *env) return env;
+  return std::string(SALTUS_SOURCE_DIR) + "/models/problems";
+}
+
+std::vector<std::string> builtinProblemNames() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(problemsDirectory(), ec))
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
+  std::string path = name_or_path, source = name_or_path;
+  if (!looksLikePath(name_or_path)) {
+    const std::vector<std::string> names = builtinProblemNames();
+    if (std::find(names.begin(), names.end(), name_or_path) == names.end())
+      throw scene::ScenarioError("unknown built-in problem '" + name_or_path + "'" + suggestion(name_or_path, names) +
+                                 "; built-in problems (" + problemsDirectory() + "): " + joinNames(names) +
+                                 "; or give the path of a problem file (.yaml)");
+    path = problemsDirectory() + "/" + name_or_path + ".yaml";
+    source = "builtin:" + name_or_path;
+  }
+  const YAML::Node root = scene::loadYamlFile(path, "problem file");
+  YamlReader reader(path, overrides);
+  if (root.IsMap()) reader.readParameters(root);
+  if (!root.IsMap())
+    reader.fail(root, "", "a problem file must be a map of keys (name, model, mesh, ...), got " + describe(root));
+  refuseSceneOnlyKeys(reader, root);
+  std::vector<std::string> keys = kSceneKeys;
+  keys.insert(keys.end(), kProblemKeys.begin(), kProblemKeys.end());
+  reader.checkMap(root, "", keys);
+
+  Problem problem;
+  problem.scene = scene::readScene(reader, root, kProblemKeys);
+  problem.scene.source = source;
+  problem.name = problem.scene.name;
+  problem.description = problem.scene.description;
+  problem.source = source;
+  problem.parameters = reader.parameters();
+  try {
+    ProblemReader(reader, problem).read(root);
+  } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
+    throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
+  }
+  return problem;
+}
+
+}  // namespace saltus::collocation

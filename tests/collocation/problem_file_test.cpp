@@ -1,0 +1,448 @@
+// Problem files (collocation/problem_file.hpp) and the method names (problem.hpp): the built-in
+// problems with their documented values and --set overrides, every key of the format on a full
+// fixture (1-based elements in the file, 0-based in Problem), and one test per kind of bad input
+// (tests/data/problems/), each checking that the message names the file, the line and the key
+// path.
+#include "collocation/problem_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <numbers>
+
+#include "dynamics/data.hpp"
+#include "dynamics/kinematics.hpp"
+#include "scene/yaml_reader.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+using scene::ScenarioError;
+
+const std::string kProblemDir = std::string(SALTUS_SOURCE_DIR) + "/models/problems/";
+const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/problems/";
+constexpr double kPi = std::numbers::pi;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no ScenarioError thrown";
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// 1-based number of the first line of `path` containing `text`.
+int lineOf(const std::string& path, const std::string& text) {
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (contains(line, text)) return n;
+  ADD_FAILURE() << path << " has no line containing '" << text << "'";
+  return -1;
+}
+
+// The gap of contact i at configuration q.
+double gap(const scene::Scene& s, int i, const Eigen::VectorXd& q) {
+  dynamics::Data<double> data(s.model);
+  dynamics::forwardKinematics(s.model, data, q);
+  const scene::Contact& c = s.contacts[i];
+  return s.surfaces[c.surface].gap(dynamics::pointPosition(data, c.body, Eigen::Vector3d(c.p_B)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Method names
+
+TEST(Method, NamesRoundTrip) {
+  for (Method m : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) EXPECT_EQ(parseMethod(toString(m)), m);
+  EXPECT_STREQ(toString(Method::FirstOrder), "first-order");
+}
+
+TEST(Method, UnknownNameListsTheValidOnes) {
+  try {
+    parseMethod("impulsiv");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_TRUE(contains(what, "'impulsiv'")) << what;
+    EXPECT_TRUE(contains(what, "did you mean 'impulsive'")) << what;
+    EXPECT_TRUE(contains(what, "impulsive, continuous, first-order")) << what;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in problems
+
+TEST(ProblemFile, BuiltinNames) {
+  EXPECT_EQ(builtinProblemNames(), (std::vector<std::string>{"pendulum_conveyor", "point_mass_drop"}));
+}
+
+TEST(ProblemFile, PointMassDrop) {
+  const Problem p = loadProblem("point_mass_drop");
+  EXPECT_EQ(p.name, "point_mass_drop");
+  EXPECT_EQ(p.source, "builtin:point_mass_drop");
+  EXPECT_EQ(p.scene.source, "builtin:point_mass_drop");
+  EXPECT_FALSE(p.description.empty());
+  ASSERT_EQ(p.scene.model.nv(), 1);
+  EXPECT_EQ(p.scene.model.coordinate_name[0], "z");
+  EXPECT_DOUBLE_EQ(p.scene.model.totalMass(), 1.0);
+  ASSERT_EQ(p.scene.contacts.size(), 1u);
+  EXPECT_EQ(p.scene.contacts[0].name, "ball");
+  EXPECT_EQ(p.scene.contacts[0].restitution, 0.0);
+  EXPECT_EQ(p.scene.contacts[0].friction, 0.0);
+  EXPECT_TRUE(p.scene.limits.empty());
+  // Released at rest at the height.
+  EXPECT_DOUBLE_EQ(p.scene.q0[0], 0.1);
+  EXPECT_DOUBLE_EQ(gap(p.scene, 0, p.scene.q0), 0.1);
+  EXPECT_TRUE(p.scene.v0.isZero());
+  EXPECT_TRUE(p.initial_free_q.empty() && p.initial_free_v.empty());
+  // Mesh: N = 20, P = 4, h_max = 0.02, T ≥ 0.2 > the drop time √(2 h / g) = 0.143 s.
+  EXPECT_EQ(p.N, 20);
+  EXPECT_EQ(p.P, 4);
+  EXPECT_DOUBLE_EQ(p.h_max, 0.02);
+  EXPECT_DOUBLE_EQ(p.h_min_ratio, 0.1);
+  EXPECT_EQ(p.total_time_kind, TotalTime::AtLeast);
+  EXPECT_DOUBLE_EQ(p.total_time, 0.2);
+  EXPECT_LT(std::sqrt(2 * 0.1 / 9.81), p.total_time);
+  EXPECT_GE(p.N * p.h_max, p.total_time);
+  // Penalty only.
+  EXPECT_FALSE(p.cost.hasTask());
+  EXPECT_DOUBLE_EQ(p.cost.penalty_weight, 1.0);
+  EXPECT_TRUE(p.inputs.empty());
+  EXPECT_TRUE(p.bounds.empty());
+  EXPECT_TRUE(p.hints.empty());
+  EXPECT_TRUE(p.surface_steps.empty());
+  EXPECT_EQ(p.parameters, (std::map<std::string, double>{{"height", 0.1}, {"restitution", 0.0}}));
+  EXPECT_EQ(p.ipopt_options.at("tol"), "1e-6");
+}
+
+TEST(ProblemFile, PointMassDropOverrides) {
+  const Problem p = loadProblem("point_mass_drop", {{"restitution", 0.5}, {"height", 0.05}});
+  EXPECT_DOUBLE_EQ(p.scene.contacts[0].restitution, 0.5);
+  EXPECT_DOUBLE_EQ(p.scene.q0[0], 0.05);
+  EXPECT_DOUBLE_EQ(p.parameters.at("restitution"), 0.5);
+  EXPECT_DOUBLE_EQ(p.scene.parameters.at("height"), 0.05);
+  // Through the command-line parser.
+  const Problem q = loadProblem("point_mass_drop", scene::parseOverrides({"restitution=0.25"}));
+  EXPECT_DOUBLE_EQ(q.scene.contacts[0].restitution, 0.25);
+}
+
+TEST(ProblemFile, OverrideOutsideTheValidRangeIsCaught) {
+  const std::string what = errorOf([] { loadProblem("point_mass_drop", {{"restitution", 1.5}}); });
+  EXPECT_TRUE(contains(what, "point_mass_drop.yaml:")) << what;
+  EXPECT_TRUE(contains(what, "contacts[0].restitution")) << what;
+  EXPECT_TRUE(contains(what, "[0, 1]")) << what;
+}
+
+TEST(ProblemFile, UnknownOverrideListsTheParameters) {
+  const std::string what = errorOf([] { loadProblem("pendulum_conveyor", {{"belt_sped", 1.0}}); });
+  EXPECT_TRUE(contains(what, kProblemDir + "pendulum_conveyor.yaml:" +
+                                 std::to_string(lineOf(kProblemDir + "pendulum_conveyor.yaml", "parameters:")) + ":"))
+      << what;
+  EXPECT_TRUE(contains(what, "did you mean 'belt_speed'")) << what;
+  EXPECT_TRUE(contains(what, "friction, belt_speed, theta1_0, theta2_0")) << what;
+}
+
+TEST(ProblemFile, PendulumConveyor) {
+  const Problem p = loadProblem("pendulum_conveyor");
+  EXPECT_EQ(p.name, "pendulum_conveyor");
+  ASSERT_EQ(p.scene.model.nv(), 2);
+  EXPECT_EQ(p.scene.model.coordinate_name, (std::vector<std::string>{"theta1", "theta2"}));
+  EXPECT_EQ(p.scene.q0, Eigen::Vector2d(0, kPi / 4));
+  EXPECT_TRUE(p.scene.v0.isZero());
+  ASSERT_EQ(p.scene.contacts.size(), 1u);
+  const scene::Contact& tip = p.scene.contacts[0];
+  EXPECT_EQ(tip.link, "tip");
+  EXPECT_EQ(tip.restitution, 0.0);
+  EXPECT_DOUBLE_EQ(tip.friction, 2.0);
+  EXPECT_EQ(tip.directions, 2);
+  EXPECT_NEAR(gap(p.scene, 0, p.scene.q0), 0.0, 1e-12);  // the tip rests on the belt
+  EXPECT_EQ(p.N, 10);
+  EXPECT_EQ(p.P, 4);
+  EXPECT_DOUBLE_EQ(p.h_max, 0.02);
+  EXPECT_EQ(p.total_time_kind, TotalTime::AtLeast);
+  EXPECT_DOUBLE_EQ(p.total_time, 0.1);
+  EXPECT_FALSE(p.cost.hasTask());
+  EXPECT_TRUE(p.bounds.empty());
+  // The belt: at rest, then belt_speed along +x from [6, 0] (element 5 here); no time schedule.
+  ASSERT_EQ(p.surface_steps.size(), 1u);
+  const std::vector<SurfaceStep>& steps = p.surface_steps.at(tip.surface);
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[0].element, 0);
+  EXPECT_EQ(steps[0].velocity, Eigen::Vector3d::Zero());
+  EXPECT_EQ(steps[1].element, 5);
+  EXPECT_EQ(steps[1].velocity, Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_TRUE(p.scene.surfaces[tip.surface].velocity_schedule.empty());
+  EXPECT_EQ(p.parameters, (std::map<std::string, double>{
+                              {"friction", 2.0}, {"belt_speed", 0.5}, {"theta1_0", 0.0}, {"theta2_0", kPi / 4}}));
+}
+
+TEST(ProblemFile, PendulumConveyorOverrides) {
+  const Problem p = loadProblem("pendulum_conveyor", {{"friction", 0.6}, {"belt_speed", 1.5}, {"theta2_0", 0.6}});
+  EXPECT_DOUBLE_EQ(p.scene.contacts[0].friction, 0.6);
+  EXPECT_EQ(p.surface_steps.at(0)[1].velocity, Eigen::Vector3d(1.5, 0, 0));
+  EXPECT_EQ(p.scene.q0, Eigen::Vector2d(0, 0.6));
+  EXPECT_NEAR(gap(p.scene, 0, p.scene.q0), 0.0, 1e-12);  // the belt follows the initial angles
+}
+
+TEST(ProblemFile, LoadByPathKeepsThePathAsSource) {
+  const Problem p = loadProblem(kProblemDir + "point_mass_drop.yaml");
+  EXPECT_EQ(p.source, kProblemDir + "point_mass_drop.yaml");
+  EXPECT_EQ(p.name, "point_mass_drop");
+}
+
+TEST(ProblemFile, ProblemsDirectoryFromTheEnvironment) {
+  ASSERT_EQ(setenv("SALTUS_PROBLEMS_DIR", kDataDir.c_str(), 1), 0);
+  const std::vector<std::string> names = builtinProblemNames();
+  const std::string dir = problemsDirectory();
+  const std::string what = errorOf([] { loadProblem("point_mass_drop"); });
+  const Problem p = loadProblem("full");
+  unsetenv("SALTUS_PROBLEMS_DIR");
+  EXPECT_EQ(dir, kDataDir);
+  EXPECT_NE(std::find(names.begin(), names.end(), "full"), names.end());
+  EXPECT_TRUE(contains(what, "unknown built-in problem 'point_mass_drop'")) << what;
+  EXPECT_EQ(p.source, "builtin:full");
+  EXPECT_EQ(problemsDirectory(), std::string(SALTUS_SOURCE_DIR) + "/models/problems");
+}
+
+TEST(ProblemFile, UnknownBuiltinListsTheBuiltins) {
+  const std::string what = errorOf([] { loadProblem("point_mass_dorp"); });
+  EXPECT_TRUE(contains(what, "unknown built-in problem 'point_mass_dorp'")) << what;
+  EXPECT_TRUE(contains(what, "did you mean 'point_mass_drop'")) << what;
+  EXPECT_TRUE(contains(what, "pendulum_conveyor, point_mass_drop")) << what;
+}
+
+TEST(ProblemFile, MissingFile) {
+  const std::string what = errorOf([] { loadProblem(kDataDir + "no_such_file.yaml"); });
+  EXPECT_TRUE(contains(what, kDataDir + "no_such_file.yaml: cannot open the problem file")) << what;
+}
+
+TEST(ProblemFile, DefaultsAndTheNullSeed) {
+  const Problem p = loadProblem(kDataDir + "seed_null.yaml");
+  EXPECT_EQ(p.name, "seed_null");
+  EXPECT_EQ(p.seed_kind, SeedKind::Null);
+  EXPECT_EQ(p.N, 3);
+  EXPECT_EQ(p.P, 4);
+  EXPECT_EQ(p.total_time_kind, TotalTime::Free);
+  EXPECT_TRUE(p.task_stage);
+  EXPECT_TRUE(p.exact_hessian);
+  EXPECT_TRUE(p.ipopt_options.empty());
+  EXPECT_TRUE(p.scene.contacts.empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every key, on tests/data/problems/full.yaml
+
+class FullProblem : public ::testing::Test {
+ protected:
+  const std::string path_ = kDataDir + "full.yaml";
+  const Problem p_ = loadProblem(path_);
+  int coordinate(const std::string& name) const { return p_.scene.model.coordinateIndex(name); }
+  // The bound on `q` at [element, point] (0-based), from p_.bounds or p_.hints.
+  const PointBound* find(const std::vector<PointBound>& list, Quantity::Kind kind, int index, int element,
+                         int point) const {
+    for (const PointBound& b : list)
+      if (b.quantity.kind == kind && b.quantity.index == index && b.element == element && b.point == point) return &b;
+    ADD_FAILURE() << "no bound on " << static_cast<int>(kind) << " " << index << " at [" << element << ", " << point
+                  << "]";
+    return nullptr;
+  }
+};
+
+TEST_F(FullProblem, SceneAndMesh) {
+  EXPECT_EQ(p_.name, "full");
+  EXPECT_EQ(p_.description, "every problem key");
+  EXPECT_EQ(p_.source, path_);
+  EXPECT_EQ(p_.scene.limits.size(), 2u);  // rev_lower, rev_upper
+  EXPECT_DOUBLE_EQ(p_.scene.q0[coordinate("rev")], 0.5);
+  EXPECT_DOUBLE_EQ(p_.scene.v0[coordinate("cont")], 1.0);
+  EXPECT_EQ(p_.N, 8);
+  EXPECT_EQ(p_.P, 3);
+  EXPECT_DOUBLE_EQ(p_.h_max, 0.05);
+  EXPECT_DOUBLE_EQ(p_.h_min_ratio, 0.5);
+  EXPECT_EQ(p_.total_time_kind, TotalTime::Equal);
+  EXPECT_DOUBLE_EQ(p_.total_time, 0.3);
+  EXPECT_EQ(p_.first_order_steps_per_element, 2);
+}
+
+TEST_F(FullProblem, InputsDefaultToTheEffortLimits) {
+  ASSERT_EQ(p_.inputs, (std::vector<int>{coordinate("rev"), coordinate("cont"), coordinate("cont_free")}));
+  ASSERT_EQ(p_.input_lower.size(), 3);
+  ASSERT_EQ(p_.input_upper.size(), 3);
+  EXPECT_EQ(p_.input_lower[0], -30.0);  // rev: effort 30
+  EXPECT_EQ(p_.input_upper[0], 30.0);
+  EXPECT_EQ(p_.input_lower[1], -2.0);   // cont: lower given, upper from effort 5
+  EXPECT_EQ(p_.input_upper[1], 5.0);
+  EXPECT_EQ(p_.input_lower[2], -kInf);  // cont_free: no effort limit
+  EXPECT_EQ(p_.input_upper[2], 7.0);
+}
+
+TEST_F(FullProblem, InitialFreeIsSorted) {
+  EXPECT_EQ(p_.initial_free_q, (std::vector<int>{coordinate("cont"), coordinate("pris")}));
+  EXPECT_EQ(p_.initial_free_v, (std::vector<int>{coordinate("pris")}));
+}
+
+TEST_F(FullProblem, FinalConditionsAtTheLastMeshPoint) {
+  using K = Quantity::Kind;
+  const int last = p_.N - 1, end = p_.P + 1;  // [N, P + 1] in the file
+  const PointBound* q = find(p_.bounds, K::Position, coordinate("pris"), last, end);
+  ASSERT_NE(q, nullptr);
+  EXPECT_EQ(q->lower, 0.0);
+  EXPECT_EQ(q->upper, 0.0);
+  EXPECT_EQ(q->origin, path_ + ":" + std::to_string(lineOf(path_, "q: {pris: 0}")));
+  const PointBound* v = find(p_.bounds, K::Velocity, coordinate("rev"), last, end);
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(v->lower, -1.0);
+  EXPECT_EQ(v->upper, kInf);  // .inf
+  const PointBound* w = find(p_.bounds, K::Velocity, coordinate("cont"), last, end);
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->lower, -kInf);  // null
+  EXPECT_EQ(w->upper, 2.0);
+  const PointBound* g = find(p_.bounds, K::Gap, 0, last, end);
+  ASSERT_NE(g, nullptr);
+  EXPECT_EQ(g->upper, 0.1);
+}
+
+TEST_F(FullProblem, BoundsAtEveryPoint) {
+  const PointBound* q = find(p_.bounds, Quantity::Kind::Position, coordinate("pris"), -1, -1);
+  ASSERT_NE(q, nullptr);
+  EXPECT_EQ(q->lower, -0.05);
+  EXPECT_EQ(q->upper, 0.25);  // the parameter `top`
+  const PointBound* u = find(p_.bounds, Quantity::Kind::Input, 1, -1, -1);  // input 1 is cont
+  ASSERT_NE(u, nullptr);
+  EXPECT_EQ(u->lower, -1.0);
+}
+
+TEST_F(FullProblem, ConstraintsMapOneBasedElementsToZeroBased) {
+  // at: [n_mid, 0] with n_mid = 3: element 2 here.
+  const PointBound* q = find(p_.bounds, Quantity::Kind::Position, coordinate("rev"), 2, 0);
+  ASSERT_NE(q, nullptr);
+  EXPECT_EQ(q->lower, 0.2);
+  // at: [8, 3] = [N, P]: element 7, point 3. Gap indices: contacts first, then the stops.
+  const PointBound* stop = find(p_.bounds, Quantity::Kind::Gap, 1 + 1, 7, 3);  // foot, rev_lower, rev_upper
+  ASSERT_NE(stop, nullptr);
+  EXPECT_EQ(stop->lower, 0.5);
+  EXPECT_EQ(stop->upper, kInf);
+  const PointBound* foot = find(p_.bounds, Quantity::Kind::Gap, 0, 7, 3);
+  ASSERT_NE(foot, nullptr);
+  EXPECT_EQ(foot->upper, 0.0);
+  // Hints are kept apart: at [1, 2] is element 0, point 2.
+  ASSERT_EQ(p_.hints.size(), 1u);
+  const PointBound* h = find(p_.hints, Quantity::Kind::Velocity, coordinate("pris"), 0, 2);
+  ASSERT_NE(h, nullptr);
+  EXPECT_EQ(h->lower, 0.0);
+  EXPECT_EQ(h->upper, kInf);
+  EXPECT_EQ(p_.bounds.size(), 4u + 2u + 3u);  // final, bounds, constraints
+}
+
+TEST_F(FullProblem, ConstantSurfaceVelocityBecomesAStepAtTheFirstElement) {
+  ASSERT_EQ(p_.surface_steps.size(), 1u);
+  const std::vector<SurfaceStep>& belt = p_.surface_steps.at(1);
+  ASSERT_EQ(belt.size(), 1u);
+  EXPECT_EQ(belt[0].element, 0);
+  EXPECT_EQ(belt[0].velocity, Eigen::Vector3d(0.2, 0, 0));
+}
+
+TEST_F(FullProblem, CostSolveAndIpopt) {
+  EXPECT_EQ(p_.cost.penalty_weight, 2.0);
+  EXPECT_EQ(p_.cost.effort_weight, 0.5);
+  EXPECT_EQ(p_.cost.max_coordinate, coordinate("pris"));
+  EXPECT_EQ(p_.cost.max_weight, 1.0);
+  EXPECT_TRUE(p_.cost.hasTask());
+  EXPECT_EQ(p_.complementarity_tolerance, 1e-5);
+  EXPECT_FALSE(p_.task_stage);
+  EXPECT_EQ(p_.seed_kind, SeedKind::Solution);
+  EXPECT_EQ(p_.seed_scale, 0.2);
+  EXPECT_EQ(p_.random_seed, 7u);
+  EXPECT_EQ(p_.seed_solution, kDataDir + "earlier/run");  // relative to the problem file
+  EXPECT_FALSE(p_.exact_hessian);
+  EXPECT_TRUE(p_.derivative_check);
+  EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
+                                  {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
+  EXPECT_EQ(p_.parameters, (std::map<std::string, double>{{"n_mid", 3}, {"top", 0.25}}));
+}
+
+TEST_F(FullProblem, OverridesReachElementNumbers) {
+  const Problem p = loadProblem(path_, {{"n_mid", 5}});
+  const PointBound* q = find(p.bounds, Quantity::Kind::Position, coordinate("rev"), 4, 0);
+  ASSERT_NE(q, nullptr);
+  EXPECT_EQ(q->lower, 0.2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: the message names the file, the line marked `# <-- error` in the fixture, the key
+// path and what was expected.
+
+std::string expectError(const std::string& fixture, const std::string& key_path,
+                        const std::vector<std::string>& parts) {
+  const std::string path = kDataDir + fixture;
+  const std::string what = errorOf([&] { loadProblem(path); });
+  const std::string where = path + ":" + std::to_string(lineOf(path, "# <-- error")) + ":";
+  EXPECT_EQ(what.rfind(where, 0), 0u) << "expected to start with " << where << "\n" << what;
+  EXPECT_TRUE(contains(what, ": " + key_path + ": ")) << key_path << "\n" << what;
+  for (const std::string& p : parts) EXPECT_TRUE(contains(what, p)) << p << "\n" << what;
+  return what;
+}
+
+TEST(ProblemFileErrors, UnknownKey) {
+  expectError("unknown_key.yaml", "mesh.h_mx", {"unknown key 'h_mx'", "did you mean 'h_max'", "expected one of: N, P"});
+}
+TEST(ProblemFileErrors, UnknownTopLevelKey) {
+  expectError("unknown_top_key.yaml", "constraint", {"unknown key 'constraint'", "did you mean 'constraints'"});
+}
+TEST(ProblemFileErrors, ElementOutOfRange) {
+  expectError("at_out_of_range.yaml", "constraints[1].at", {"element 21 is not in [1, 20]", "numbered from 1"});
+}
+TEST(ProblemFileErrors, PointOutOfRange) {
+  expectError("point_out_of_range.yaml", "hints[0].at", {"point 5 is not in [0, 4]"});
+}
+TEST(ProblemFileErrors, SurfaceStepNotAtAMeshPoint) {
+  expectError("surface_step_not_mesh_point.yaml", "surface_velocity.belt[1].at", {"[n, 0]", "got point 2"});
+}
+TEST(ProblemFileErrors, UnknownCoordinate) {
+  expectError("unknown_coordinate.yaml", "final.q.zz", {"unknown coordinate 'zz'", "did you mean 'z'", "x, z"});
+}
+TEST(ProblemFileErrors, UnknownContactInGap) {
+  expectError("unknown_contact.yaml", "constraints[0].gap.bal", {"unknown contact 'bal'", "did you mean 'ball'"});
+}
+TEST(ProblemFileErrors, MissingN) {
+  expectError("missing_n.yaml", "mesh.N", {"missing required key 'N'"});
+}
+TEST(ProblemFileErrors, BadP) {
+  expectError("bad_p.yaml", "mesh.P", {"[1, 9]", "got 12"});
+}
+TEST(ProblemFileErrors, TimeScheduledSurfaceNeedsSurfaceVelocity) {
+  expectError("time_scheduled_surface.yaml", "surfaces[0].velocity_schedule[1].time",
+              {"surface 'belt'", "t = 0.1 s", "element lengths are variables", "surface_velocity.belt"});
+}
+TEST(ProblemFileErrors, SeedSolutionWithoutPath) {
+  expectError("seed_solution_missing.yaml", "solve.seed_solution", {"seed: solution needs seed_solution"});
+}
+TEST(ProblemFileErrors, DurationRefused) {
+  expectError("duration.yaml", "duration", {"no fixed duration", "mesh.total_time"});
+}
+TEST(ProblemFileErrors, InputRefused) {
+  expectError("input.yaml", "input", {"no constant input", "inputs"});
+}
+TEST(ProblemFileErrors, BoundOnAnUnactuatedCoordinate) {
+  expectError("not_an_input.yaml", "bounds.u.z", {"'z' is not actuated", "the inputs are: x"});
+}
+TEST(ProblemFileErrors, LowerAboveUpper) {
+  expectError("bad_range.yaml", "bounds.q.x", {"lower bound 1 exceeds the upper bound -1"});
+}
+TEST(ProblemFileErrors, UnreachableTotalTime) {
+  expectError("unreachable_total_time.yaml", "mesh.total_time.at_least", {"cannot be reached", "N h_max = 0.2"});
+}
+TEST(ProblemFileErrors, UnknownSurface) {
+  expectError("unknown_surface.yaml", "surface_velocity.groud", {"unknown surface 'groud'", "did you mean 'ground'"});
+}
+
+}  // namespace
+}  // namespace saltus::collocation
