@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   const std::vector<cli::Command> commands = {
       cli::addInspectCommand(app),
       cli::addSimulateCommand(app),
+      cli::addOptimizeCommand(app),
       cli::addBenchCommand(app),
   };
 

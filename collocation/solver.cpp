@@ -75,16 +75,20 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
-  app->Options()->SetNumericValue("tol", 1e-8);
+  // Defaults (the problem file and the command line override them): the tolerance of the
+  // paper group's code (facts.md §1), and an acceptable level for the complementarity
+  // problems, whose multipliers need not converge.
+  app->Options()->SetNumericValue("tol", 1e-6);
+  app->Options()->SetNumericValue("acceptable_tol", 1e-4);
+  app->Options()->SetIntegerValue("acceptable_iter", 10);
   app->Options()->SetIntegerValue("max_iter", 3000);
   app->Options()->SetStringValue("mu_strategy", "adaptive");
   app->Options()->SetStringValue("hessian_approximation",
                                  t.problem().exact_hessian ? "exact" : "limited-memory");
-  if (stage == Stage::Task) {  // warm start from the feasibility stage
-    app->Options()->SetStringValue("warm_start_init_point", "yes");
-    app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
-    app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
-    app->Options()->SetNumericValue("mu_init", 1e-6);
+  if (stage == Stage::Task) {  // start close to the feasibility stage's point
+    app->Options()->SetNumericValue("bound_push", 1e-6);
+    app->Options()->SetNumericValue("bound_frac", 1e-6);
+    app->Options()->SetNumericValue("mu_init", 1e-4);
   }
   if (t.problem().derivative_check) {
     app->Options()->SetStringValue("derivative_test", "second-order");
@@ -121,7 +125,9 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.constraints = t.constraints();
   Eigen::VectorXd x = x0;
   report.stages.push_back(runStage(t, Stage::Feasibility, x0, options, x, report));
-  const bool task = t.problem().task_stage && t.problem().cost.hasTask();
+  // The task stage runs when there is a task cost, and also when hints shaped the feasibility
+  // stage: they are a seeding aid, not part of the problem.
+  const bool task = (t.problem().task_stage && t.problem().cost.hasTask()) || !t.problem().hints.empty();
   if (task && report.stages.back().succeeded) {
     const Eigen::VectorXd x1 = x;
     report.stages.push_back(runStage(t, Stage::Task, x1, options, x, report));

@@ -1,7 +1,7 @@
 // The two-stage solve of paper §V.C with Ipopt: first the feasibility stage (minimise the
 // complementarity penalty Σ ε from the seed, hints applied), then, when the problem has a task
-// cost, the task stage (minimise it with every ε ≤ the complementarity tolerance, warm-started
-// from the first stage). A solution is feasible when Ipopt succeeded and every product A·B is
+// cost or hints, the task stage (minimise the task cost and the weighted penalty with every
+// ε ≤ the complementarity tolerance and without the hints, warm-started from the first stage). A solution is feasible when Ipopt succeeded and every product A·B is
 // at most the tolerance (1e-4).
 #pragma once
 

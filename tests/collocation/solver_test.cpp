@@ -1,27 +1,150 @@
-// Two-stage solves of the paper's problems (collocation/solver.hpp), asserting the physics of
-// the solutions: the impact at an element boundary at t = √(2h/g), v⁺ = −e v⁻, no penetration,
-// exact free flight; the impulse without collision of the pendulum on the belt.
+// Two-stage solves of the paper's built-in problems (collocation/solver.hpp), asserting the
+// physics of the solutions (paper Figs. 3 and 4), and the convergence order of Gauss
+// collocation on a smooth problem.
 #include "collocation/solver.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "tests/support/problems.hpp"
+#include "collocation/problem_file.hpp"
+#include "collocation/solution.hpp"
+#include "dynamics/aba.hpp"
+#include "tests/support/pendulum.hpp"
 
 namespace saltus::collocation {
 namespace {
 
-TEST(Solver, PointMassDropSmoke) {
-  const Problem p = testing::pointMassDrop(0.5);
-  const Transcription t(p, Method::Impulsive);
-  SolveOptions o;
-  o.print_level = 5;
-  const SolveReport r = solve(t, t.perturb(t.nullSeed(), 0.1, 1), o);
-  EXPECT_TRUE(r.feasible) << r.stages[0].status << " product " << r.largest_product;
-  for (const auto& L : t.layout()) {
-    std::printf("h %.5f  z0 %.5f v0 %.5f  zend %.5f vend %.5f  pn %g\n", r.x[L.h], r.x[L.points[0].q], r.x[L.points[0].v],
-                r.x[L.points[L.end].q], r.x[L.points[L.end].v], L.contacts[0].rn[0] >= 0 ? r.x[L.contacts[0].rn[0]] : 0.0);
+constexpr double g = 9.81;
+
+struct Solved {
+  Problem problem;
+  std::unique_ptr<Transcription> t;
+  SolveReport report;
+  std::vector<Sample> rows;
+};
+
+Solved solveBuiltin(const std::string& name, Method method, const std::map<std::string, double>& set = {},
+                    unsigned seed = 0) {
+  Solved s;
+  s.problem = loadProblem(name, set);
+  if (seed) s.problem.random_seed = seed;
+  s.t = std::make_unique<Transcription>(s.problem, method);
+  s.report = solve(*s.t, s.t->perturb(s.t->nullSeed(), s.problem.seed_scale, s.problem.random_seed), {});
+  s.rows = trajectory(*s.t, s.report.x);
+  return s;
+}
+
+// The point-mass drop: free flight exact for the polynomial, the impact at an element boundary at
+// t = √(2h/g) with v⁺ = −e v⁻, no penetration.
+void checkDrop(const Solved& s, double e) {
+  ASSERT_TRUE(s.report.feasible) << s.report.stages.back().status << ", largest product " << s.report.largest_product;
+  const double h0 = 0.1, t_impact = std::sqrt(2 * h0 / g), v_impact = -std::sqrt(2 * g * h0);
+  const double tol = 1e-3;  // complementarity products ≤ 1e-4 leave the contact this loose
+  int impact_row = -1;
+  for (std::size_t i = 0; i < s.rows.size(); ++i) {
+    const Sample& r = s.rows[i];
+    EXPECT_GT(r.contacts[0].gap, -1e-8) << "penetration at t = " << r.t;
+    if (impact_row < 0 && r.contacts[0].pn > 1e-3) impact_row = static_cast<int>(i);
+    if (impact_row < 0 && r.t < t_impact - tol) {  // free flight: exact at every point
+      EXPECT_NEAR(r.q[0], h0 - g * r.t * r.t / 2, 1e-6) << "t = " << r.t;  // Ipopt tol 1e-6
+      EXPECT_NEAR(r.v[0], -g * r.t, 1e-6) << "t = " << r.t;
+    }
+  }
+  ASSERT_GT(impact_row, 0) << "no impulse";
+  const Sample& after = s.rows[impact_row];
+  const Sample& before = s.rows[impact_row - 1];
+  EXPECT_EQ(after.point, 0) << "the impulse acts at a mesh point [n, 0]";
+  EXPECT_DOUBLE_EQ(before.t, after.t) << "a velocity jump gives two rows at the same time";
+  EXPECT_NEAR(after.t, t_impact, tol);
+  EXPECT_NEAR(before.v[0], v_impact, 5 * tol);
+  EXPECT_NEAR(after.v[0], -e * before.v[0], 0.01);
+  EXPECT_NEAR(after.contacts[0].pn, after.v[0] - before.v[0], 1e-6) << "impulse = m Δv (eq. 6)";
+}
+
+TEST(Solver, PointMassDropInelastic) { checkDrop(solveBuiltin("point_mass_drop", Method::Impulsive), 0.0); }
+
+TEST(Solver, PointMassDropHalfElastic) {
+  checkDrop(solveBuiltin("point_mass_drop", Method::Impulsive, {{"restitution", 0.5}}, 2), 0.5);
+}
+
+TEST(Solver, ContinuousSpreadsTheStopOverOneElement) {
+  const Solved s = solveBuiltin("point_mass_drop", Method::Continuous);
+  // The velocity falls from the impact speed to rest inside one element, with no jump.
+  const auto& L = s.t->layout();
+  int stops = 0;
+  for (const auto& el : L) {
+    const double v0 = s.report.x[el.points[0].v], v1 = s.report.x[el.points[el.end].v];
+    if (v0 < -1.0 && std::abs(v1) < 0.05) ++stops;
+    EXPECT_FALSE(v0 < -1.0 && v1 > 0.05) << "a bounce without restitution";
+  }
+  EXPECT_EQ(stops, 1);
+  for (std::size_t i = 1; i < s.rows.size(); ++i) EXPECT_LT(s.rows[i - 1].t, s.rows[i].t) << "no repeated times";
+}
+
+TEST(Solver, PendulumConveyorImpactWithoutCollision) {
+  const Solved s = solveBuiltin("pendulum_conveyor", Method::Impulsive);
+  ASSERT_TRUE(s.report.feasible) << s.report.stages.back().status << ", largest product " << s.report.largest_product;
+  const double mu = 2.0;
+  bool impulse = false;
+  for (const Sample& r : s.rows) {
+    const ContactSample& c = r.contacts[0];
+    EXPECT_LT(c.gap, 2e-3) << "the contact opens at t = " << r.t;
+    EXPECT_LE(std::abs(c.rt[0]), mu * c.rn + 1e-6) << "outside the friction cone at t = " << r.t;
+    if (r.element == 5 && r.point == 0) {  // [6, 0]: the belt steps, a tangential impulse
+      EXPECT_GT(std::abs(c.pt[0]), 0.05) << "no tangential impulse at [6, 0]";
+      EXPECT_LE(std::abs(c.pt[0]), mu * c.pn + 1e-6);
+      impulse = true;
+    }
+    if (r.element >= 5) EXPECT_NEAR(c.vt[0], 0.0, 2e-3) << "the tip slips on the belt at t = " << r.t;
+  }
+  EXPECT_TRUE(impulse);
+}
+
+// A smooth problem (a pendulum swinging freely, fixed element lengths): the state at the mesh
+// points converges at order 2P (Gauss collocation's superconvergence) as N grows.
+TEST(Solver, GaussCollocationConvergenceOrder) {
+  const dynamics::Model<double> model = testing::pendulumModel({1.0}, {0.5});
+  const double T = 0.6, q0 = 1.0;
+  // Reference: RK4 with a small step.
+  dynamics::Data<double> data(model);
+  Eigen::VectorXd q = Eigen::VectorXd::Constant(1, q0), v = Eigen::VectorXd::Zero(1), tau = Eigen::VectorXd::Zero(1);
+  auto acc = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv) {
+    return Eigen::VectorXd(dynamics::aba(model, data, qq, vv, tau));
+  };
+  const int steps = 20000;
+  const double dt = T / steps;
+  for (int i = 0; i < steps; ++i) {
+    const Eigen::VectorXd k1q = v, k1v = acc(q, v);
+    const Eigen::VectorXd k2q = v + dt / 2 * k1v, k2v = acc(q + dt / 2 * k1q, v + dt / 2 * k1v);
+    const Eigen::VectorXd k3q = v + dt / 2 * k2v, k3v = acc(q + dt / 2 * k2q, v + dt / 2 * k2v);
+    const Eigen::VectorXd k4q = v + dt * k3v, k4v = acc(q + dt * k3q, v + dt * k3v);
+    q += dt / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
+    v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+  }
+  for (int P : {1, 2}) {
+    std::vector<double> errors;
+    for (int N : {4, 8, 16}) {
+      Problem p;
+      p.scene.model = model;
+      p.scene.q0 = Eigen::VectorXd::Constant(1, q0);
+      p.scene.v0 = Eigen::VectorXd::Zero(1);
+      p.N = N;
+      p.P = P;
+      p.h_max = T / N;
+      p.h_min_ratio = 1.0;  // fixed element lengths
+      const Transcription t(p, Method::Impulsive);
+      SolveOptions o;
+      o.ipopt["tol"] = "1e-12";
+      const SolveReport r = solve(t, t.nullSeed(), o);
+      ASSERT_TRUE(r.stages[0].succeeded) << r.stages[0].status;
+      const auto& end = t.layout().back().points[t.layout().back().end];
+      errors.push_back(std::abs(r.x[end.q] - q[0]) + std::abs(r.x[end.v] - v[0]));
+    }
+    for (std::size_t i = 1; i < errors.size(); ++i) {
+      const double order = std::log2(errors[i - 1] / errors[i]);
+      EXPECT_NEAR(order, 2.0 * P, 0.35) << "P = " << P << ", errors " << errors[i - 1] << " -> " << errors[i];
+    }
   }
 }
 

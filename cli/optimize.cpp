@@ -1,0 +1,168 @@
+// saltus optimize PROBLEM: contact-implicit trajectory optimisation (collocation/) of a problem
+// file or built-in problem with one of three methods, solved in two stages with Ipopt. Writes
+// DIR/trajectory.csv (collocation/solution.hpp) and DIR/summary.json; both appear only when the
+// solve ran (a failed or infeasible solve still writes them, with Ipopt's status, and exits 1).
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <unistd.h>
+
+#include "cli/common.hpp"
+#include "cli/simulation.hpp"
+#include "collocation/problem_file.hpp"
+#include "collocation/solution.hpp"
+#include "collocation/solver.hpp"
+
+namespace saltus::cli {
+
+namespace {
+
+using namespace saltus::collocation;
+namespace fs = std::filesystem;
+
+struct OptimizeOptions {
+  std::string problem;
+  std::string method = "impulsive";
+  std::optional<int> P, N;
+  std::optional<unsigned> seed;
+  std::vector<std::string> set, ipopt;
+  std::string hessian;
+  int print_level = 0;
+  bool derivative_check = false;
+  std::string out;
+};
+
+// Moves a mesh point given as "the end" ([N−1, P+1]) or an element index along with a changed N or P.
+void remesh(Problem& p, int N, int P) {
+  auto fix = [&](std::vector<PointBound>& list) {
+    for (PointBound& b : list) {
+      if (b.element == p.N - 1 && b.point == p.P + 1) {
+        b.element = N - 1;
+        b.point = P + 1;
+      } else if (b.element >= N || b.point > P + 1) {
+        throw UsageError("--N/--P: the condition given at " + b.origin + " lies outside the new mesh (N = " +
+                         std::to_string(N) + ", P = " + std::to_string(P) + ")");
+      }
+    }
+  };
+  fix(p.bounds);
+  fix(p.hints);
+  p.N = N;
+  p.P = P;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f) throw std::runtime_error(path + ": cannot write");
+  }
+  fs::rename(tmp, path);
+}
+
+int optimize(const OptimizeOptions& opt) {
+  Method method;
+  try {
+    method = parseMethod(opt.method);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--method: ") + e.what());
+  }
+  std::map<std::string, std::string> ipopt;
+  for (const std::string& a : opt.ipopt) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--ipopt '" + a + "': expected name=value, e.g. --ipopt max_iter=500");
+    ipopt[a.substr(0, eq)] = a.substr(eq + 1);
+  }
+  Problem problem = loadProblem(opt.problem, parseSetOptions(opt.set));
+  if (opt.P && (*opt.P < 1 || *opt.P > 9)) throw UsageError("--P: expected an order from 1 to 9, got " + std::to_string(*opt.P));
+  if (opt.N && *opt.N < 1) throw UsageError("--N: expected at least 1 element, got " + std::to_string(*opt.N));
+  if (opt.P || opt.N) remesh(problem, opt.N.value_or(problem.N), opt.P.value_or(problem.P));
+  if (opt.seed) problem.random_seed = *opt.seed;
+  if (!opt.hessian.empty()) {
+    if (opt.hessian != "exact" && opt.hessian != "limited-memory")
+      throw UsageError("--hessian: expected exact or limited-memory, got '" + opt.hessian + "'");
+    problem.exact_hessian = opt.hessian == "exact";
+  }
+  problem.derivative_check = problem.derivative_check || opt.derivative_check;
+
+  const Transcription t(problem, method);  // refuses what the method cannot represent
+  Eigen::VectorXd x0 = t.nullSeed();
+  if (problem.seed_kind == SeedKind::Perturbed) x0 = t.perturb(x0, problem.seed_scale, problem.random_seed);
+  if (problem.seed_kind == SeedKind::Solution)
+    throw std::runtime_error(problem.source + ": seed: solution is not supported by saltus optimize yet; use null or perturbed");
+  SolveOptions so;
+  so.print_level = opt.print_level;
+  so.ipopt = ipopt;
+  const SolveReport r = solve(t, x0, so);
+
+  fs::create_directories(opt.out);
+  const std::vector<Sample> samples = trajectory(t, r.x);
+  writeTrajectoryCsv((fs::path(opt.out) / "trajectory.csv").string(), t, samples);
+
+  nlohmann::ordered_json j;
+  j["problem"] = problem.name;
+  j["source"] = problem.source;
+  j["method"] = toString(method);
+  j["N"] = problem.N;
+  j["P"] = method == Method::FirstOrder ? 1 : problem.P;
+  j["elements"] = t.elements();
+  j["seed"] = problem.seed_kind == SeedKind::Null ? "null" : "perturbed";
+  j["random_seed"] = problem.random_seed;
+  j["feasible"] = r.feasible;
+  j["objective"] = r.objective;
+  j["largest_product"] = r.largest_product;
+  j["complementarity_tolerance"] = problem.complementarity_tolerance;
+  j["iterations"] = r.iterations;
+  j["wall_seconds"] = r.wall_seconds;
+  j["evaluation_seconds"] = r.evaluation_seconds;
+  j["ipopt_seconds"] = r.wall_seconds - r.evaluation_seconds;
+  j["evaluation_fraction"] = r.wall_seconds > 0 ? r.evaluation_seconds / r.wall_seconds : 0.0;
+  j["variables"] = r.variables;
+  j["constraints"] = r.constraints;
+  j["jacobian_nonzeros"] = r.jacobian_nonzeros;
+  j["hessian_nonzeros"] = r.hessian_nonzeros;
+  j["total_time"] = samples.empty() ? 0.0 : samples.back().t;
+  j["mean_local_error"] = meanLocalError(t, r.x);
+  for (const StageReport& s : r.stages)
+    j["stages"].push_back({{"name", s.name},
+                           {"status", s.status},
+                           {"succeeded", s.succeeded},
+                           {"iterations", s.iterations},
+                           {"objective", s.objective},
+                           {"largest_product", s.largest_product},
+                           {"wall_seconds", s.wall_seconds},
+                           {"evaluation_seconds", s.evaluation_seconds}});
+  j["parameters"] = problem.parameters;
+  writeFileAtomically((fs::path(opt.out) / "summary.json").string(), j.dump(2) + "\n");
+
+  std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
+            << (r.feasible ? "feasible" : "NOT feasible") << " (" << r.stages.back().status << ", largest product "
+            << r.largest_product << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
+            << r.evaluation_seconds << " s evaluating) -> " << opt.out << "\n";
+  return r.feasible ? 0 : 1;
+}
+
+}  // namespace
+
+Command addOptimizeCommand(CLI::App& saltus) {
+  auto opt = std::make_shared<OptimizeOptions>();
+  CLI::App* app = saltus.add_subcommand("optimize", "Trajectory optimisation through contact (direct collocation, Ipopt)");
+  app->add_option("problem", opt->problem, "built-in problem name or problem file (.yaml)")->required();
+  app->add_option("--method", opt->method, "impulsive (default), continuous or first-order");
+  app->add_option("--P", opt->P, "collocation points per element (overrides the file)");
+  app->add_option("--N", opt->N, "finite elements (overrides the file)");
+  app->add_option("--seed", opt->seed, "random seed of the perturbed initial guess");
+  app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
+  app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
+  app->add_option("--hessian", opt->hessian, "exact (default) or limited-memory");
+  app->add_flag("--derivative-check", opt->derivative_check, "run Ipopt's second-order derivative checker");
+  app->add_option("--print-level", opt->print_level, "Ipopt's print_level (0 = quiet)");
+  app->add_option("--out", opt->out, "output directory (trajectory.csv, summary.json)")->required();
+  return {app, [opt] { return optimize(*opt); }};
+}
+
+}  // namespace saltus::cli

@@ -1,0 +1,217 @@
+#include "collocation/solution.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "dynamics/aba.hpp"
+
+namespace saltus::collocation {
+
+namespace {
+
+// The inputs at s ∈ [0, 1] of an element: the polynomial through their values at the
+// collocation points (first order: the step's one value).
+Eigen::VectorXd inputsAt(const Transcription& t, const ElementLayout& L, const Eigen::VectorXd& x, int nu, double s) {
+  if (L.collocation.size() == 1) return x.segment(L.points[L.collocation[0]].u, nu);
+  const Eigen::VectorXd l = t.lg().basis(s);
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(nu);
+  for (std::size_t j = 0; j < L.collocation.size(); ++j) out += l[j] * x.segment(L.points[L.collocation[j]].u, nu);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x) {
+  const auto& model = t.models().model<double>();
+  auto& data = t.models().data<double>();
+  const int nv = model.nv(), nu = static_cast<int>(t.problem().inputs.size());
+  const bool impulsive = t.method() == Method::Impulsive;
+  const bool fo = t.method() == Method::FirstOrder;
+  std::vector<Sample> rows;
+  double t0 = 0;
+  for (int n = 0; n < t.elements(); ++n) {
+    const ElementLayout& L = t.layout()[n];
+    const double h = x[L.h];
+    const int element = fo ? n / t.problem().first_order_steps_per_element : n;
+    for (std::size_t p = 0; p < L.points.size(); ++p) {
+      if (p == 0 && n > 0 && !impulsive) continue;  // continuous velocity: one row per mesh point
+      const auto& pt = L.points[p];
+      Sample s;
+      s.t = t0 + h * L.tau[p];
+      s.element = n;
+      s.point = static_cast<int>(p);
+      s.q = x.segment(pt.q, nv);
+      s.v = x.segment(pt.v, nv);
+      s.u = nu == 0 ? Eigen::VectorXd() : pt.u >= 0 ? Eigen::VectorXd(x.segment(pt.u, nu))
+                                                    : inputsAt(t, L, x, nu, L.tau[p]);
+      dynamics::forwardKinematics(model, data, s.q, s.v);
+      for (std::size_t c = 0; c < t.contacts().size(); ++c) {
+        const ContactPoint& cp = t.contacts()[c];
+        const auto& C = L.contacts[c];
+        ContactSample cs;
+        cs.gap = x[C.y[p]];
+        cs.vn = normalVelocity(cp, data, s.v.data());
+        if (!cp.is_limit) {
+          const scene::Surface& surface = t.problem().scene.surfaces[cp.surface];
+          const Eigen::Matrix<double, 3, 2> T = surface.tangents();
+          const Eigen::Vector3d slip =
+              dynamics::pointVelocity(data, cp.body, cp.p_B) - t.surfaceVelocity(cp.surface, element);
+          cs.vt = T.transpose() * slip;
+          if (C.rn[p] >= 0) {
+            const double rn = x[C.rn[p]];
+            Eigen::Vector3d ft = Eigen::Vector3d::Zero();
+            for (int i = 0; i < cp.k(); ++i)
+              ft += fo ? Eigen::Vector3d(cp.directions.col(i) * x[C.t[p] + i])
+                       : Eigen::Vector3d(-cp.directions.col(i) * (cp.mu * rn * x[C.t[p] + i]));
+            const bool impulse = impulsive && p == 0;
+            (impulse ? cs.pn : cs.rn) = rn;
+            (impulse ? cs.pt : cs.rt) = T.transpose() * ft;
+          }
+        } else if (C.rn[p] >= 0) {
+          (impulsive && p == 0 ? cs.pn : cs.rn) = x[C.rn[p]];
+        }
+        s.contacts.push_back(cs);
+      }
+      rows.push_back(std::move(s));
+    }
+    t0 += h;
+  }
+  return rows;
+}
+
+void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "w");
+  if (!f) throw std::runtime_error(path + ": cannot write the trajectory");
+  const auto& model = t.problem().scene.model;
+  std::string header = "t";
+  for (const auto& c : model.coordinate_name) header += ",q." + c;
+  for (const auto& c : model.coordinate_name) header += ",v." + c;
+  for (int i : t.problem().inputs) header += ",u." + model.coordinate_name[i];
+  std::vector<bool> spatial;
+  for (const ContactPoint& c : t.contacts()) {
+    spatial.push_back(c.k() > 2);
+    const std::string p = ",contact." + c.name + ".";
+    auto pair = [&](const std::string& name) { return spatial.back() ? p + name + "1" + p + name + "2" : p + name; };
+    header += p + "gap" + p + "vn" + pair("vt") + p + "rn" + pair("rt") + p + "pn" + pair("pt");
+  }
+  std::fprintf(f, "%s\n", header.c_str());
+  for (const Sample& s : samples) {
+    std::fprintf(f, "%.12g", s.t);
+    for (int i = 0; i < s.q.size(); ++i) std::fprintf(f, ",%.12g", s.q[i]);
+    for (int i = 0; i < s.v.size(); ++i) std::fprintf(f, ",%.12g", s.v[i]);
+    for (int i = 0; i < s.u.size(); ++i) std::fprintf(f, ",%.12g", s.u[i]);
+    for (std::size_t c = 0; c < s.contacts.size(); ++c) {
+      const ContactSample& cs = s.contacts[c];
+      auto pair = [&](const Eigen::Vector2d& v) {
+        if (spatial[c])
+          std::fprintf(f, ",%.12g,%.12g", v[0], v[1]);
+        else
+          std::fprintf(f, ",%.12g", v[0]);
+      };
+      std::fprintf(f, ",%.12g,%.12g", cs.gap, cs.vn);
+      pair(cs.vt);
+      std::fprintf(f, ",%.12g", cs.rn);
+      pair(cs.rt);
+      std::fprintf(f, ",%.12g", cs.pn);
+      pair(cs.pt);
+    }
+    std::fprintf(f, "\n");
+  }
+  const bool ok = std::fflush(f) == 0 && !std::ferror(f);
+  std::fclose(f);
+  std::error_code ec;
+  if (!ok || (std::filesystem::rename(tmp, path, ec), ec)) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(path + ": cannot write the trajectory");
+  }
+}
+
+double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
+  const auto& model = t.models().model<double>();
+  auto& data = t.models().data<double>();
+  const int nv = model.nv(), nu = static_cast<int>(t.problem().inputs.size());
+  const int P = static_cast<int>(t.layout()[0].collocation.size());
+  const bool fo = t.method() == Method::FirstOrder;
+  Eigen::VectorXd gx, gw;
+  gaussLegendre(P + 1, gx, gw);
+  double total = 0;
+  long count = 0;
+  // Scale floors: a variable that stays near zero on an element (a mass at rest) would turn
+  // round-off into a huge relative error; floor each element's scale at 1 % of the variable's
+  // largest magnitude over the trajectory.
+  Eigen::VectorXd q_max = Eigen::VectorXd::Constant(nv, 1e-9), v_max = Eigen::VectorXd::Constant(nv, 1e-9);
+  for (const ElementLayout& L : t.layout())
+    for (const auto& pt : L.points)
+      for (int i = 0; i < nv; ++i)
+        q_max[i] = std::max(q_max[i], std::abs(x[pt.q + i])), v_max[i] = std::max(v_max[i], std::abs(x[pt.v + i]));
+  Eigen::VectorXd q(nv), v(nv), qd(nv), vd(nv), tau(nv);
+  Eigen::Matrix3Xd J(3, nv);
+  for (int n = 0; n < t.elements(); ++n) {
+    const ElementLayout& L = t.layout()[n];
+    const double h = x[L.h];
+    Eigen::VectorXd err_q = Eigen::VectorXd::Zero(nv), err_v = Eigen::VectorXd::Zero(nv);
+    for (int m = 0; m < gx.size(); ++m) {
+      const double s = (gx[m] + 1) / 2;
+      // State polynomials and their derivatives (eq. 3 with s in place of τ_p; first order: the
+      // backward-Euler step is linear in s with the end point's rates).
+      Eigen::VectorXd Is, ls;
+      if (fo) {
+        Is = Eigen::VectorXd::Constant(1, s);
+        ls = Eigen::VectorXd::Ones(1);
+      } else {
+        Is = t.lg().basisIntegral(s);
+        ls = t.lg().basis(s);
+      }
+      q = x.segment(L.points[0].q, nv);
+      v = x.segment(L.points[0].v, nv);
+      qd.setZero();
+      vd.setZero();
+      for (int j = 0; j < P; ++j) {
+        const auto& pt = L.points[L.collocation[j]];
+        q += h * Is[j] * x.segment(pt.v, nv);
+        v += h * Is[j] * x.segment(pt.a, nv);
+        qd += ls[j] * x.segment(pt.v, nv);
+        vd += ls[j] * x.segment(pt.a, nv);
+      }
+      // The EOM's q̈ for the interpolated state, inputs and reactions.
+      tau.setZero();
+      for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < P; ++j) tau[t.problem().inputs[i]] += ls[j] * x[L.points[L.collocation[j]].u + i];
+      dynamics::forwardKinematics(model, data, q);
+      for (std::size_t c = 0; c < t.contacts().size(); ++c) {
+        const ContactPoint& cp = t.contacts()[c];
+        const auto& C = L.contacts[c];
+        for (int j = 0; j < P; ++j) {
+          const int p = L.collocation[j];
+          const double rn = x[C.rn[p]];
+          if (cp.is_limit) {
+            tau[cp.coordinate] += ls[j] * cp.sign * rn;
+            continue;
+          }
+          Eigen::Vector3d f = cp.normal * rn;
+          for (int i = 0; i < cp.k(); ++i)
+            f += fo ? Eigen::Vector3d(cp.directions.col(i) * x[C.t[p] + i])
+                    : Eigen::Vector3d(-cp.directions.col(i) * (cp.mu * rn * x[C.t[p] + i]));
+          dynamics::pointJacobian(model, data, cp.body, Eigen::Vector3d(cp.p_B), J);
+          tau += ls[j] * J.transpose() * f;
+        }
+      }
+      const Eigen::VectorXd& qdd = dynamics::aba(model, data, q, v, tau);
+      err_q += (gw[m] / 2) * (qd - v).cwiseAbs();
+      err_v += (gw[m] / 2) * (vd - qdd).cwiseAbs();
+    }
+    // Scale by the largest magnitude of each variable on the element.
+    for (int i = 0; i < nv; ++i) {
+      double sq = 0, sv = 0;
+      for (const auto& pt : L.points) sq = std::max(sq, std::abs(x[pt.q + i])), sv = std::max(sv, std::abs(x[pt.v + i]));
+      total += err_q[i] / std::max(sq, 0.01 * q_max[i]) + err_v[i] / std::max(sv, 0.01 * v_max[i]);
+      count += 2;
+    }
+  }
+  return count ? total / count : 0.0;
+}
+
+}  // namespace saltus::collocation

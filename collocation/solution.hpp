@@ -1,0 +1,46 @@
+// A solved transcription as a trajectory: rows at every mesh and collocation point in time
+// order (at a velocity jump two rows with the same t, before then after), written as CSV with
+// the columns of `saltus simulate` plus inputs and reactions; and the paper's mean local error
+// (Fig. 7).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "collocation/transcription.hpp"
+
+namespace saltus::collocation {
+
+struct ContactSample {
+  double gap = 0, vn = 0;
+  Eigen::Vector2d vt = Eigen::Vector2d::Zero();  // slip relative to the surface, along (t1, t2)
+  double rn = 0;                                 // finite normal force (collocation points)
+  Eigen::Vector2d rt = Eigen::Vector2d::Zero();  // finite tangential force on the body
+  double pn = 0;                                 // normal impulse (impulsive [n, 0])
+  Eigen::Vector2d pt = Eigen::Vector2d::Zero();  // tangential impulse
+};
+
+struct Sample {
+  double t = 0;
+  int element = 0, point = 0;  // 0-based
+  Eigen::VectorXd q, v, u;
+  std::vector<ContactSample> contacts;  // scene contacts, then limit stops
+};
+
+std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x);
+
+// Writes the samples as CSV (temporary file, then rename): t, q.<c>…, v.<c>…, u.<input>…, and per
+// contact contact.<name>.gap, .vn, .vt (.vt1, .vt2 for k ≥ 4), .rn, .rt (.rt1, .rt2), .pn,
+// .pt (.pt1, .pt2). Throws std::runtime_error naming the file when it cannot write.
+void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples);
+
+// The paper's mean local error (§V.D, Fig. 7): on every element, the difference between the
+// derivative of each state polynomial and the derivative the equations of motion give for the
+// interpolated state, input and reactions, integrated over the element (Gauss rule of P + 1
+// points), divided by the element length and by the largest magnitude of the variable on the
+// element (at least 1 % of its largest magnitude over the trajectory, so that a variable
+// resting at zero does not divide round-off by zero); the mean over elements and state
+// variables.
+double meanLocalError(const Transcription& t, const Eigen::VectorXd& x);
+
+}  // namespace saltus::collocation

@@ -1,0 +1,115 @@
+// `saltus optimize`, run as a program: the built-in point-mass drop solved into trajectory.csv
+// and summary.json (columns, rows, the summary's figures), and the refusals (a method that
+// cannot represent the problem, unknown names, bad options) with exit code and message.
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/run_saltus.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using saltus::testing::readFile;
+using saltus::testing::runSaltus;
+
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("saltus_optimize_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  for (std::string item; std::getline(s, item, ',');) out.push_back(item);
+  return out;
+}
+
+TEST(Optimize, PointMassDropWritesTrajectoryAndSummary) {
+  const fs::path dir = freshDir("drop");
+  const auto r = runSaltus({"optimize", "point_mass_drop", "--out", dir.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  const nlohmann::json s = nlohmann::json::parse(readFile(dir / "summary.json"));
+  EXPECT_EQ(s["method"], "impulsive");
+  EXPECT_EQ(s["N"], 20);
+  EXPECT_EQ(s["P"], 4);
+  EXPECT_TRUE(s["feasible"].get<bool>());
+  EXPECT_LE(s["largest_product"].get<double>(), 1e-4);
+  EXPECT_GE(s["total_time"].get<double>(), 0.2 - 1e-6);
+  ASSERT_EQ(s["stages"].size(), 2u);  // feasibility with the hint, then without it
+  EXPECT_EQ(s["stages"][0]["name"], "feasibility");
+  EXPECT_EQ(s["stages"][1]["status"], "Solve_Succeeded");
+  EXPECT_GT(s["iterations"].get<int>(), 0);
+  EXPECT_GT(s["evaluation_seconds"].get<double>(), 0.0);
+  EXPECT_LT(s["evaluation_seconds"].get<double>(), s["wall_seconds"].get<double>());
+  EXPECT_GT(s["variables"].get<int>(), s["constraints"].get<int>());
+  EXPECT_GT(s["mean_local_error"].get<double>(), 0.0);
+
+  std::stringstream csv(readFile(dir / "trajectory.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line,
+            "t,q.z,v.z,contact.ball.gap,contact.ball.vn,contact.ball.vt,contact.ball.rn,contact.ball.rt,"
+            "contact.ball.pn,contact.ball.pt");
+  int rows = 0, jumps = 0;
+  double t_prev = -1, v_prev = 0;
+  while (std::getline(csv, line)) {
+    const auto f = split(line);
+    ASSERT_EQ(f.size(), 10u) << line;
+    const double t = std::stod(f[0]), v = std::stod(f[2]);
+    EXPECT_GE(t, t_prev);
+    if (t == t_prev && std::abs(v - v_prev) > 0.5) ++jumps;  // the impact: before, then after
+    EXPECT_NEAR(std::stod(f[4]), v, 1e-12) << "vn of a vertical coordinate is ż";
+    t_prev = t;
+    v_prev = v;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 20 * 6 - 0);  // 6 points per element (P = 4), every [n, 0] kept (the jumps)
+  EXPECT_EQ(jumps, 1);
+  fs::remove_all(dir);
+}
+
+TEST(Optimize, ContinuousRefusesRestitution) {
+  const fs::path dir = freshDir("refuse");
+  const auto r = runSaltus({"optimize", "point_mass_drop", "--method", "continuous", "--set", "restitution=0.5",
+                            "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("continuous method cannot represent restitution"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(Optimize, BadInputNamesWhatWasExpected) {
+  const fs::path dir = freshDir("bad");
+  auto r = runSaltus({"optimize", "point_mass_dorp", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("did you mean 'point_mass_drop'"), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--method", "second-order", "--out", dir.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--method"), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_itr=3", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("unknown Ipopt option 'max_itr'"), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=many", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("expected an integer"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(Optimize, FailedSolveExitsNonZeroWithIpoptStatus) {
+  const fs::path dir = freshDir("fail");
+  const auto r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=3", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  const nlohmann::json s = nlohmann::json::parse(readFile(dir / "summary.json"));
+  EXPECT_FALSE(s["feasible"].get<bool>());
+  EXPECT_EQ(s["stages"][0]["status"], "Maximum_Iterations_Exceeded");
+  fs::remove_all(dir);
+}
+
+}  // namespace

@@ -1,0 +1,113 @@
+// Derivatives of the NLP (collocation/nlp.hpp): the Jacobian of every constraint family and the
+// Hessian of the Lagrangian from AD of the local functions, against central finite differences
+// of the values, at seeded random points, for each method on both paper problems.
+#include "collocation/nlp.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "tests/support/problems.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+// A random point near the seed: every variable moved by up to ±0.3 (h kept inside its bounds).
+Eigen::VectorXd randomPoint(const Transcription& t, unsigned seed) {
+  Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.1, seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-0.3, 0.3);
+  for (int i = 0; i < x.size(); ++i) x[i] += U(rng) * (t.variableNames()[i][0] == 'h' ? 0.01 : 1.0);
+  return x;
+}
+
+// The family of a constraint row: its name up to the first '.' or '['.
+std::string family(const std::string& name) { return name.substr(0, name.find_first_of(".[")); }
+
+void checkDerivatives(const Problem& p, Method method) {
+  const Transcription t(p, method);
+  Nlp nlp(t, Stage::Task, t.nullSeed());
+  const Eigen::VectorXd x = randomPoint(t, 7);
+  const Eigen::MatrixXd J = nlp.jacobian(x);
+  const double step = 1e-6;
+  Eigen::MatrixXd Jfd(t.constraints(), t.variables());
+  for (int i = 0; i < t.variables(); ++i) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[i] += step;
+    xm[i] -= step;
+    Jfd.col(i) = (nlp.constraints(xp) - nlp.constraints(xm)) / (2 * step);
+  }
+  std::map<std::string, double> worst;
+  for (int r = 0; r < t.constraints(); ++r) {
+    const double scale = 1 + J.row(r).cwiseAbs().maxCoeff();
+    double& w = worst[family(t.constraintNames()[r])];
+    w = std::max(w, (J.row(r) - Jfd.row(r)).cwiseAbs().maxCoeff() / scale);
+  }
+  EXPECT_GE(worst.size(), 4u);
+  for (const auto& [name, err] : worst) EXPECT_LT(err, 1e-6) << toString(method) << ": constraint family " << name;
+
+  // Hessian of L = σ f + λᵀ g against differences of its gradient σ ∇f + Jᵀ λ.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Eigen::VectorXd lambda(t.constraints());
+  for (int r = 0; r < lambda.size(); ++r) lambda[r] = U(rng);
+  const double sigma = 0.7;
+  auto gradient = [&](const Eigen::VectorXd& y) {
+    Eigen::VectorXd g(t.variables());
+    nlp.eval_grad_f(t.variables(), y.data(), true, g.data());
+    return Eigen::VectorXd(sigma * g + nlp.jacobian(y).transpose() * lambda);
+  };
+  const Eigen::MatrixXd H = nlp.hessian(x, sigma, lambda);
+  double worst_h = 0;
+  for (int i = 0; i < t.variables(); ++i) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[i] += step;
+    xm[i] -= step;
+    const Eigen::VectorXd col = (gradient(xp) - gradient(xm)) / (2 * step);
+    worst_h = std::max(worst_h, (H.col(i) - col).cwiseAbs().maxCoeff() / (1 + H.col(i).cwiseAbs().maxCoeff()));
+  }
+  EXPECT_LT(worst_h, 1e-5) << toString(method) << ": Hessian of the Lagrangian";
+  EXPECT_GT(H.cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(NlpDerivatives, PointMassImpulsive) { checkDerivatives(testing::pointMassDrop(0.5, 0.1, 4, 3), Method::Impulsive); }
+TEST(NlpDerivatives, PointMassContinuous) { checkDerivatives(testing::pointMassDrop(0.0, 0.1, 4, 3), Method::Continuous); }
+TEST(NlpDerivatives, PointMassFirstOrder) { checkDerivatives(testing::pointMassDrop(0.0, 0.1, 2, 3), Method::FirstOrder); }
+
+Problem smallConveyor() {
+  Problem p = testing::pendulumConveyor();
+  p.N = 3;
+  p.P = 3;
+  p.surface_steps[0] = {{1, Eigen::Vector3d(0.5, 0, 0)}};
+  p.inputs = {0};  // an actuated shoulder, so the input columns are checked too
+  p.cost.effort_weight = 0.3;
+  return p;
+}
+TEST(NlpDerivatives, ConveyorImpulsive) { checkDerivatives(smallConveyor(), Method::Impulsive); }
+TEST(NlpDerivatives, ConveyorContinuous) { checkDerivatives(smallConveyor(), Method::Continuous); }
+TEST(NlpDerivatives, ConveyorFirstOrder) {
+  Problem p = smallConveyor();
+  p.N = 1;
+  checkDerivatives(p, Method::FirstOrder);
+}
+
+TEST(Transcription, ContinuousRefusesRestitution) {
+  try {
+    Transcription t(testing::pointMassDrop(0.5), Method::Continuous);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("restitution"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'ball'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Transcription, FirstOrderGetsFourStepsPerElement) {
+  const Problem p = testing::pointMassDrop(0.0);
+  const Transcription fo(p, Method::FirstOrder), lg(p, Method::Impulsive);
+  EXPECT_EQ(fo.elements(), 4 * lg.elements());
+  EXPECT_NEAR(fo.variableUpper()[fo.layout()[0].h], p.h_max / 4, 1e-15);
+}
+
+}  // namespace
+}  // namespace saltus::collocation
