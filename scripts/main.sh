@@ -29,5 +29,7 @@ run build/saltus inspect "$model" --json --q=0,0.785 --v=0,0 --a=0,0 --tau=0,0
 mkdir -p out
 run build/saltus simulate pendulum_conveyor --duration 0.3 --out out/pendulum_conveyor.csv
 run build/saltus bench work-precision ball_drop --out out/work_precision_ball_drop
+run build/saltus optimize pendulum_conveyor --out out/optimize_pendulum_conveyor
 echo
-echo "main job done: out/pendulum_conveyor.csv, out/work_precision_ball_drop/work_precision.{csv,png,svg}"
+echo "main job done: out/pendulum_conveyor.csv, out/work_precision_ball_drop/work_precision.{csv,png,svg},"
+echo "  out/optimize_pendulum_conveyor/{trajectory.csv,summary.json}"
