@@ -32,11 +32,11 @@ struct DerivativeData {
         q(model.nv()), v(model.nv()), w(model.nv()),
         dtau_dq(model.nv(), model.nv()), dtau_dv(model.nv(), model.nv()),
         dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()),
-        subtree_end(model.nv()), g_n(model.nv(), Eigen::Matrix<double, 3, N>::Zero()),
-        g_f(model.nv(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nv(), false) {
-    // subtree_end[i]: one past the largest index in the subtree of i.
-    for (int i = 0; i < model.nv(); ++i) subtree_end[i] = i + 1;
-    for (int i = model.nv() - 1; i >= 0; --i)
+        subtree_end(model.nbodies()), g_n(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()),
+        g_f(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nbodies(), false) {
+    // subtree_end[i]: one past the largest body index in the subtree of body i.
+    for (int i = 0; i < model.nbodies(); ++i) subtree_end[i] = i + 1;
+    for (int i = model.nbodies() - 1; i >= 0; --i)
       if (model.parent[i] >= 0) subtree_end[model.parent[i]] = std::max(subtree_end[model.parent[i]], subtree_end[i]);
   }
 
@@ -47,8 +47,8 @@ struct DerivativeData {
   MatX<double> dtau_dq, dtau_dv;               // RNEA: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = M is data.M)
   MatX<double> dqdd_dq, dqdd_dv, dqdd_dtau;    // ABA: ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (= M⁻¹)
 
-  // rneaDerivatives' scratch: subtree extents and the derivative of the force each ancestor
-  // receives from the current chunk (moment and force rows, one column per direction).
+  // rneaDerivatives' scratch, per body: subtree extents and the derivative of the force each
+  // ancestor receives from the current chunk (moment and force rows, one column per direction).
   std::vector<int> subtree_end;
   std::vector<Eigen::Matrix<double, 3, N>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, N>>> g_n, g_f;
   std::vector<bool> touched;
@@ -88,17 +88,18 @@ void extract(const VecX<Dual<N>>& y, int first, int ndir, MatX<double>* blocks[3
 // ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈) into dd.dtau_dq, dd.dtau_dv; ∂τ/∂q̈ = M(q) into
 // dd.data.M (CRBA: RNEA is linear in q̈).
 //
-// A direction q_j or q̇_j changes the outward recursion only in the subtree of j and the inward
-// one only there and along j's ancestors. Each chunk takes N/2 consecutive coordinates with
-// both of their directions, runs the outward and inward steps in dual numbers over the bodies
-// the chunk reaches, and carries the derivative of the force transmitted to the ancestors as a
-// plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
+// A direction q_j or q̇_j changes the outward recursion only in the subtree of j's body and the
+// inward one only there and along its ancestors. Each chunk takes N/2 consecutive coordinates
+// with both of their directions, runs the outward and inward steps in dual numbers over the
+// bodies the chunk reaches, and carries the derivative of the force transmitted to the
+// ancestors as a plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
   static_assert(N % 2 == 0, "a chunk holds (q_j, q̇_j) pairs");
   using D = Dual<N>;
   using DerN = Eigen::Matrix<double, 3, N>;
+  using RowN = Eigen::Matrix<double, 1, N>;
   constexpr int K = N / 2;
   const int n = model.nv();
   Data<double>& dat = dd.data;
@@ -111,38 +112,49 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
   auto promote = [](const Motion<double>& m) { return Motion<D>{m.w.template cast<D>(), m.v.template cast<D>()}; };
   for (int first = 0; first < n; first += K) {
     const int last = std::min(first + K, n);
-    int end = last;
-    for (int j = first; j < last; ++j) end = std::max(end, dd.subtree_end[j]);
+    // Bodies [b0, end): those of the chunk's coordinates and their subtrees.
+    const int b0 = model.coordinate_body[first], b1 = model.coordinate_body[last - 1];
+    int end = b1 + 1;
+    for (int b = b0; b <= b1; ++b) end = std::max(end, dd.subtree_end[b]);
     // Outward, over the bodies the chunk reaches.
-    for (int i = first; i < end; ++i) {
-      const int p = model.parent[i];
-      D qi(q[i]), vi(v[i]), ai(a[i]);
-      if (i < last) {
-        qi.derivatives()[2 * (i - first)] = 1.0;
-        vi.derivatives()[2 * (i - first) + 1] = 1.0;
+    for (int i = b0; i < end; ++i) {
+      const int p = model.parent[i], k0 = model.first_coordinate[i], nc = model.num_coordinates[i];
+      D qi[6], vi[6], ai[6];
+      for (int c = 0; c < nc; ++c) {
+        const int k = k0 + c;
+        qi[c] = D(q[k]);
+        vi[c] = D(v[k]);
+        ai[c] = D(a[k]);
+        if (k >= first && k < last) {
+          qi[c].derivatives()[2 * (k - first)] = 1.0;
+          vi[c].derivatives()[2 * (k - first) + 1] = 1.0;
+        }
       }
-      if (p >= first) {
-        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &dual.v[p], dual.a_gf[p]);
+      if (p >= b0) {
+        rneaForwardStep(mdual, dual, i, qi, vi, ai, &dual.v[p], dual.a_gf[p]);
       } else if (p >= 0) {
         const Motion<D> vp = promote(dat.v[p]);
-        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &vp, promote(dat.a_gf[p]));
+        rneaForwardStep(mdual, dual, i, qi, vi, ai, &vp, promote(dat.a_gf[p]));
       } else {
-        rneaForwardStep<D>(mdual, dual, i, qi, vi, true, ai, nullptr, a0);
+        rneaForwardStep<D>(mdual, dual, i, qi, vi, ai, nullptr, a0);
       }
     }
     // Inward over the same bodies; forces leaving the range go to dd.g_n/g_f of the ancestor.
-    auto store = [&](int i, const Eigen::Matrix<double, 1, N>& dtau) {
+    auto store = [&](int k, const RowN& dtau) {
       for (int c = 0; c < last - first; ++c) {
-        dd.dtau_dq(i, first + c) = dtau[2 * c];
-        dd.dtau_dv(i, first + c) = dtau[2 * c + 1];
+        dd.dtau_dq(k, first + c) = dtau[2 * c];
+        dd.dtau_dv(k, first + c) = dtau[2 * c + 1];
       }
     };
-    for (int i = end - 1; i >= first; --i) {
-      store(i, jointForce(mdual, i, dual.f[i]).derivatives().transpose());
+    for (int i = end - 1; i >= b0; --i) {
+      D tau_i[6];
+      jointForces(mdual, dual, i, dual.f[i], tau_i);
+      for (int c = 0; c < model.num_coordinates[i]; ++c)
+        store(model.first_coordinate[i] + c, tau_i[c].derivatives().transpose());
       const int p = model.parent[i];
       if (p < 0) continue;
       const Force<D> F = dual.X_up[i].applyTranspose(dual.f[i]);
-      if (p >= first) {
+      if (p >= b0) {
         dual.f[p] += F;
       } else {
         for (int r = 0; r < 3; ++r) {
@@ -153,13 +165,20 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
       }
     }
     // Ancestors: ∂τ_p = S_pᵀ ∂f_p, and ∂f_λ(p) += ^pX_λᵀ ∂f_p with the constant double transform.
-    for (int p = first - 1; p >= 0; --p) {
+    for (int p = b0 - 1; p >= 0; --p) {
       if (!dd.touched[p]) continue;
       const DerN& gn = dd.g_n[p];
       const DerN& gf = dd.g_f[p];
-      const int k = model.axis_kind[p];
-      const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
-      store(p, k >= 0 ? Eigen::Matrix<double, 1, N>(along.row(k)) : Eigen::Matrix<double, 1, N>(model.axis[p].transpose() * along));
+      if (model.num_coordinates[p] == 1) {
+        const int k = model.axis_kind[p];
+        const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
+        store(model.first_coordinate[p], k >= 0 ? RowN(along.row(k)) : RowN(model.axis[p].transpose() * along));
+      } else {
+        for (int c = 0, k = model.first_coordinate[p]; c < model.num_coordinates[p]; ++c, ++k) {
+          const Motion<double>& s = dat.S_joint[k];
+          store(k, s.w.transpose() * gn + s.v.transpose() * gf);
+        }
+      }
       const int pp = model.parent[p];
       if (pp >= 0) {
         const Transform<double>& X = dat.X_up[p];
