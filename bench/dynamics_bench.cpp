@@ -38,7 +38,7 @@ const Fixture& fixture(const std::string& name) {
     for (int i = 0; i < n; ++i) q[i] = u(rng), v[i] = u(rng), a[i] = u(rng);
     f.q.push_back(q), f.v.push_back(v), f.a.push_back(a);
   }
-  f.point_body = n - 1;
+  f.point_body = f.model.nbodies() - 1;
   return cache.emplace(name, std::move(f)).first->second;
 }
 

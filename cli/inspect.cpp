@@ -18,7 +18,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;  // keys in the order written
 
-using dynamics::JointType;
 using dynamics::Model;
 
 struct InspectOptions {
@@ -76,12 +75,15 @@ Json describeJson(const Model<double>& model, const std::optional<Evaluation>& e
   j["nq"] = model.nq();
   j["coordinates"] = model.coordinate_name;
   Json bodies = Json::array(), limits = Json::array();
-  for (int i = 0; i < model.nv(); ++i) {
+  for (int i = 0; i < model.nbodies(); ++i) {
+    const auto first = model.coordinate_name.begin() + model.first_coordinate[i];
     bodies.push_back({{"name", model.body_name[i]},
                       {"parent", model.parent[i] < 0 ? Json(nullptr) : Json(parentName(model, i))},
                       {"joint", dynamics::toString(model.joint_type[i])},
-                      {"coordinate", model.coordinate_name[i]},
+                      {"coordinates", std::vector<std::string>(first, first + model.num_coordinates[i])},
                       {"mass", model.inertia[i].m}});
+  }
+  for (int i = 0; i < model.nv(); ++i) {
     const auto& L = model.limits[i];
     limits.push_back({{"lower", bound(L.lower)}, {"upper", bound(L.upper)},
                       {"velocity", bound(L.velocity)}, {"effort", bound(L.effort)}});
@@ -141,7 +143,7 @@ std::string describeText(const Model<double>& model, const std::optional<Evaluat
   s << "model        " << model.name << "\n"
     << "source       " << model.source << "\n"
     << "base         " << dynamics::toString(model.base);
-  if (model.n_base) s << " (" << model.n_base << " base coordinates, massless virtual bodies)";
+  if (model.n_base) s << " (" << model.n_base << " base coordinates in one joint)";
   s << "\n"
     << "coordinates  " << model.nq() << "\n"
     << "total mass   " << num(model.totalMass()) << " kg\n"
@@ -149,7 +151,7 @@ std::string describeText(const Model<double>& model, const std::optional<Evaluat
 
   s << "\nbodies\n";
   std::vector<std::vector<std::string>> rows{{"#", "body", "parent", "joint", "mass [kg]"}};
-  for (int i = 0; i < model.nv(); ++i)
+  for (int i = 0; i < model.nbodies(); ++i)
     rows.push_back({std::to_string(i), model.body_name[i], parentName(model, i),
                     dynamics::toString(model.joint_type[i]), num(model.inertia[i].m)});
   s << table(rows);
@@ -158,7 +160,7 @@ std::string describeText(const Model<double>& model, const std::optional<Evaluat
   rows = {{"#", "name", "unit", "lower", "upper", "velocity", "effort"}};
   for (int i = 0; i < model.nv(); ++i) {
     const auto& L = model.limits[i];
-    const bool rev = model.joint_type[i] == JointType::Revolute;
+    const bool rev = !model.isTranslation(i);
     const auto lim = [](double x) { return std::isfinite(x) ? num(x) : "-"; };
     rows.push_back({std::to_string(i), model.coordinate_name[i], rev ? "rad" : "m", lim(L.lower), lim(L.upper),
                     lim(L.velocity), lim(L.effort)});

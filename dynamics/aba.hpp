@@ -3,6 +3,7 @@
 
 #include "dynamics/data.hpp"
 #include "dynamics/joint.hpp"
+#include "dynamics/kinematics.hpp"
 
 namespace saltus::dynamics {
 
@@ -48,55 +49,148 @@ template <class S>
 Vec6<S> times(const Mat6<S>& I, const Motion<S>& m) {
   return I.template leftCols<3>() * m.w + I.template rightCols<3>() * m.v;
 }
+
+// In-place Cholesky factor L (lower triangle) of the leading n × n block of a symmetric
+// positive definite A; and solves with it. For the n_i × n_i block D_i of a multi-coordinate
+// joint (RBDA 7.44).
+template <class S>
+void choleskyInPlace(Mat6<S>& A, int n) {
+  using std::sqrt;
+  for (int j = 0; j < n; ++j) {
+    S d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    A(j, j) = sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      S x = A(i, j);
+      for (int k = 0; k < j; ++k) x -= A(i, k) * A(j, k);
+      A(i, j) = x / A(j, j);
+    }
+  }
+}
+template <class S>
+void solveLower(const Mat6<S>& L, int n, S* x) {  // x ← L⁻¹ x
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < i; ++k) x[i] -= L(i, k) * x[k];
+    x[i] /= L(i, i);
+  }
+}
+template <class S>
+void solveUpper(const Mat6<S>& L, int n, S* x) {  // x ← L⁻ᵀ x
+  for (int i = n - 1; i >= 0; --i) {
+    for (int k = i + 1; k < n; ++k) x[i] -= L(k, i) * x[k];
+    x[i] /= L(i, i);
+  }
+}
+// Passes 2 and 3 of aba() for a multi-coordinate joint, out of line: they run once per call
+// (the base), and inlined they slow the one-coordinate loops.
+//
+// Pass 2 (RBDA 7.43–7.45): U = IA S, D = Sᵀ U = L Lᵀ, u = τ − Sᵀ p^A.
+template <class S>
+[[gnu::noinline]] void abaMultiJointInward(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& tau) {
+  const Mat6<S>& IA = data.IA[i];
+  const int p = model.parent[i], k = model.first_coordinate[i];
+  const int nc = model.num_coordinates[i];
+  const Motion<S>* Scol = &data.S_joint[k];
+  Mat6<S>& L = data.D_chol[i];
+  for (int c = 0; c < nc; ++c) data.U[k + c] = detail::times(IA, Scol[c]);
+  for (int c = 0; c < nc; ++c)
+    for (int r = c; r < nc; ++r) L(r, c) = Scol[r].vector().dot(data.U[k + c]);
+  detail::choleskyInPlace(L, nc);
+  for (int c = 0; c < nc; ++c) data.u[k + c] = tau[k + c] - dot(Scol[c], data.pA[i]);
+  if (p >= 0) {
+    // Ia = IA − U D⁻¹ Uᵀ = IA − W Wᵀ and U D⁻¹ u = W y, with W = U L⁻ᵀ and y = L⁻¹ u.
+    Eigen::Matrix<S, 6, 6> W;
+    S y[6];
+    for (int c = 0; c < nc; ++c) y[c] = data.u[k + c];
+    detail::solveLower(L, nc, y);
+    for (int r = 0; r < 6; ++r) {
+      S w[6];
+      for (int c = 0; c < nc; ++c) w[c] = data.U[k + c][r];
+      detail::solveLower(L, nc, w);  // row r of W: L⁻¹ (row r of U)ᵀ
+      for (int c = 0; c < nc; ++c) W(r, c) = w[c];
+    }
+    Mat6<S> Ia = IA;
+    Vec6<S> Wy = Vec6<S>::Zero();
+    for (int c = 0; c < nc; ++c) {
+      Ia -= W.col(c) * W.col(c).transpose();
+      Wy += W.col(c) * y[c];
+    }
+    const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + Wy;
+    data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
+    data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
+  }
+}
+
+// Pass 3 (RBDA 7.46, 7.47): q̈_i = D⁻¹ (u − Uᵀ a'), a_i = a' + S q̈_i, given a' = ^iX_λ a_λ + c_i.
+template <class S>
+[[gnu::noinline]] Motion<S> abaMultiJointOutward(const Model<S>& model, Data<S>& data, int i, const Motion<S>& ap) {
+  const int k = model.first_coordinate[i], nc = model.num_coordinates[i];
+  const Vec6<S> apv = ap.vector();
+  S* x = data.qdd.data() + k;
+  for (int c = 0; c < nc; ++c) x[c] = data.u[k + c] - data.U[k + c].dot(apv);
+  solveLower(data.D_chol[i], nc, x);
+  solveUpper(data.D_chol[i], nc, x);
+  return ap + multiJointVelocity(model, i, &data.S_joint[k], x);
+}
 }  // namespace detail
 
-// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u).
+// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints).
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
-  const int n = model.nv();
-  // Pass 1: velocities, velocity-product accelerations c_i, bias forces p_i (RBDA 7.1, 7.2).
-  for (int i = 0; i < n; ++i) {
+  const int nb = model.nbodies();
+  // Pass 1: velocities, velocity-product accelerations c_i = c_J + v_i × v_J, bias forces p_i
+  // (RBDA 7.1, 7.2).
+  for (int i = 0; i < nb; ++i) {
     const int p = model.parent[i];
-    data.X_up[i] = jointTransformUp(model, i, q[i]);
-    const Motion<S> vJ = jointVelocity(model, i, v[i]);
+    updateJointTransform(model, data, i, q);
+    Motion<S> cJ;
+    const Motion<S> vJ = jointVelocity(model, data, i, v, &cJ);
     if (p < 0) {
       data.v[i] = vJ;
-      data.c[i] = Motion<S>::Zero();
+      data.c[i] = cJ;
     } else {
       data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
-      data.c[i] = data.v[i].cross(vJ);
+      data.c[i] = model.num_coordinates[i] == 1 ? data.v[i].cross(vJ) : cJ + data.v[i].cross(vJ);
     }
     const RigidInertia<S>& I = model.inertia[i];
     data.IA[i] = I.matrix();
     data.pA[i] = data.v[i].crossForce(I * data.v[i]);
   }
   // Pass 2: articulated inertias and bias forces, leaves to root.
-  for (int i = n - 1; i >= 0; --i) {
+  for (int i = nb - 1; i >= 0; --i) {
     const Mat6<S>& IA = data.IA[i];
-    Vec6<S>& U = data.U[i];
-    const Vec3<S>& ax = model.axis[i];
-    U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
-                                                   : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
-    const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
-                                                                      : Vec3<S>(U.template tail<3>());
-    data.D[i] = ax.dot(Utop);                                  // D = Sᵀ U
-    data.u[i] = tau[i] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
-    const int p = model.parent[i];
-    if (p >= 0) {
-      const Mat6<S> Ia = IA - U * (U.transpose() / data.D[i]);  // RBDA 7.43
-      const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[i] / data.D[i]);
-      data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
-      data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
+    const int p = model.parent[i], k = model.first_coordinate[i];
+    if (model.num_coordinates[i] == 1) {
+      Vec6<S>& U = data.U[k];
+      const Vec3<S>& ax = model.axis[i];
+      U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
+                                                     : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
+      const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
+                                                                        : Vec3<S>(U.template tail<3>());
+      data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
+      data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
+      if (p >= 0) {
+        const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
+        const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
+        data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
+        data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
+      }
+    } else {
+      detail::abaMultiJointInward(model, data, i, tau);
     }
   }
-  // Pass 3: accelerations, root to leaves.
+  // Pass 3: accelerations, root to leaves (RBDA 7.46, 7.47).
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};
-  for (int i = 0; i < n; ++i) {
-    const int p = model.parent[i];
+  for (int i = 0; i < nb; ++i) {
+    const int p = model.parent[i], k = model.first_coordinate[i];
     const Motion<S> ap = data.X_up[i].apply(p < 0 ? a0 : data.a_gf[p]) + data.c[i];
-    data.qdd[i] = (data.u[i] - data.U[i].dot(ap.vector())) / data.D[i];
-    data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[i]);
+    if (model.num_coordinates[i] == 1) {
+      data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
+      data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
+    } else {
+      data.a_gf[i] = detail::abaMultiJointOutward(model, data, i, ap);
+    }
   }
   return data.qdd;
 }

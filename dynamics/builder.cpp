@@ -17,7 +17,13 @@ const char* toString(BaseType base) {
 }
 
 const char* toString(JointType type) {
-  return type == JointType::Revolute ? "revolute" : "prismatic";
+  switch (type) {
+    case JointType::Revolute: return "revolute";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Planar: return "planar";
+    case JointType::Free: return "free";
+  }
+  return "?";
 }
 
 std::string checkInertia(double mass, const Eigen::Matrix3d& Ic, bool allow_point_mass) {
@@ -105,7 +111,8 @@ struct BodyInProgress {
   Eigen::Vector3d axis;
   Eigen::Matrix3d R_PJ;  // joint frame in the parent body frame
   Eigen::Vector3d p_PJ;
-  std::string body_name, coordinate_name;
+  std::string body_name;
+  std::vector<std::string> coordinate_names;  // one, or those of a base joint
   JointLimits limits;
 };
 }  // namespace
@@ -166,37 +173,30 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
   model.gravity = gravity;
   std::vector<BodyInProgress> bodies;
   auto addBody = [&](int parent, JointType type, const Eigen::Vector3d& axis, const std::string& body,
-                     const std::string& coordinate) {
+                     std::vector<std::string> coordinates) {
     bodies.push_back({parent, type, axis, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), body,
-                      coordinate, JointLimits{}});
+                      std::move(coordinates), JointLimits{}});
     return static_cast<int>(bodies.size()) - 1;
   };
   std::vector<int> body_of(nl, -2);
   std::vector<Eigen::Matrix3d> R_BL(nl, Eigen::Matrix3d::Identity());
   std::vector<Eigen::Vector3d> p_BL(nl, Eigen::Vector3d::Zero());
   const std::string& root_name = links_[root].name;
-  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  // A floating base is one multi-coordinate joint from the world to the root link (model.hpp).
   switch (base) {
     case BaseType::Fixed:
       body_of[root] = -1;
       break;
-    case BaseType::Planar: {
-      const int bx = addBody(-1, JointType::Prismatic, ex, "base_x", "base_x");
-      const int bz = addBody(bx, JointType::Prismatic, ez, "base_z", "base_z");
-      body_of[root] = addBody(bz, JointType::Revolute, ey, root_name, "base_theta");
+    case BaseType::Planar:
+      body_of[root] = addBody(-1, JointType::Planar, Eigen::Vector3d::Zero(), root_name,
+                              {"base_x", "base_z", "base_theta"});
       model.n_base = 3;
       break;
-    }
-    case BaseType::Free: {
-      const int bx = addBody(-1, JointType::Prismatic, ex, "base_x", "base_x");
-      const int by = addBody(bx, JointType::Prismatic, ey, "base_y", "base_y");
-      const int bz = addBody(by, JointType::Prismatic, ez, "base_z", "base_z");
-      const int byaw = addBody(bz, JointType::Revolute, ez, "base_yaw", "base_yaw");
-      const int bpitch = addBody(byaw, JointType::Revolute, ey, "base_pitch", "base_pitch");
-      body_of[root] = addBody(bpitch, JointType::Revolute, ex, root_name, "base_roll");
+    case BaseType::Free:
+      body_of[root] = addBody(-1, JointType::Free, Eigen::Vector3d::Zero(), root_name,
+                              {"base_x", "base_y", "base_z", "base_yaw", "base_pitch", "base_roll"});
       model.n_base = 6;
       break;
-    }
   }
   std::vector<int> moving_link_of_body(bodies.size(), -1);
   if (base != BaseType::Fixed) moving_link_of_body[body_of[root]] = root;
@@ -213,7 +213,7 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
         p_BL[c] = p_BJ;
       } else {
         const JointType type = js.type == LinkJointType::Prismatic ? JointType::Prismatic : JointType::Revolute;
-        const int b = addBody(body_of[l], type, js.axis.normalized(), js.child, js.name);
+        const int b = addBody(body_of[l], type, js.axis.normalized(), js.child, {js.name});
         bodies[b].R_PJ = R_BJ;
         bodies[b].p_PJ = p_BJ;
         bodies[b].limits = js.limits;
@@ -262,7 +262,7 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
   for (int b = 0; b < nb; ++b) {
     const int l = moving_link_of_body[b];
     if (l >= 0 && !has_inertial[b] && (require_inertials_ || !(subtree_mass[b] > 0)))
-      fail("link '" + links_[l].name + "' moves (joint '" + bodies[b].coordinate_name +
+      fail("link '" + links_[l].name + "' moves (joint '" + bodies[b].coordinate_names.front() +
            "') but neither it nor any link fixed to it has an <inertial> element" +
            (require_inertials_ ? "" : ", and no body below it has mass"));
   }
@@ -277,11 +277,16 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     model.massless.push_back(I.m == 0 && I.h.isZero(0) && I.I.isZero(0));
     model.X_tree.push_back({bp.R_PJ.transpose(), bp.p_PJ});  // parent coords -> joint coords
     model.body_name.push_back(bp.body_name);
-    model.coordinate_name.push_back(bp.coordinate_name);
-    model.limits.push_back(bp.limits);
+    model.num_coordinates.push_back(static_cast<int>(bp.coordinate_names.size()));
+    for (const std::string& c : bp.coordinate_names) {
+      model.coordinate_name.push_back(c);
+      model.limits.push_back(bp.limits);
+    }
   }
-  for (int b = 0; b < nb; ++b)
-    for (int c = b + 1; c < nb; ++c)
+  model.numberCoordinates();
+  const int n = model.nv();
+  for (int b = 0; b < n; ++b)
+    for (int c = b + 1; c < n; ++c)
       if (model.coordinate_name[b] == model.coordinate_name[c])
         fail("coordinate name '" + model.coordinate_name[b] + "' is used twice (a joint clashes with a base coordinate)");
   return model;

@@ -1,7 +1,7 @@
 // Building a Model from links and joints: the small C++ API for models, and the back end of the
-// URDF reader. Fixed joints are merged into their parent body, the floating base becomes a chain
-// of one-coordinate joints (BaseType), bodies are numbered depth first, and every link and
-// joint is validated.
+// URDF reader. Fixed joints are merged into their parent body, the floating base becomes one
+// multi-coordinate joint on the root link's body (BaseType), bodies are numbered depth first,
+// and every link and joint is validated.
 #pragma once
 
 #include <stdexcept>

@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "dynamics/model.hpp"
+#include "dynamics/joint.hpp"
 
 namespace saltus::dynamics {
 
@@ -16,6 +16,10 @@ struct Data {
   explicit Data(const Model<S>& model);
 
   // Kinematics (per body i, RBDA notation).
+  // Motion subspace columns, per coordinate, body coordinates: constant for one-coordinate
+  // joints (set here), S_i(q) of a multi-coordinate joint (set by every algorithm that computes
+  // X_up).
+  std::vector<Motion<S>> S_joint;
   std::vector<Transform<S>> X_up;     // ^iX_λ(i): parent coordinates -> body i coordinates
   std::vector<Transform<S>> X_world;  // ^iX_0: world -> body i; E = R_WBᵀ, r = p_WB (origin in world)
   std::vector<Motion<S>> v;           // body spatial velocity, body coordinates
@@ -29,15 +33,16 @@ struct Data {
 
   // Composite rigid bodies (CRBA, RBDA Table 6.2).
   std::vector<RigidInertia<S>> Ic;  // composite inertias, world coordinates
-  std::vector<Motion<S>> S_world;   // joint motion subspaces, world coordinates
+  std::vector<Motion<S>> S_world;   // motion subspace columns (per coordinate), world coordinates
   MatX<S> M;  // joint-space inertia matrix, both triangles filled
 
   // Articulated bodies (ABA, RBDA Table 7.1).
   std::vector<Mat6<S>> IA;
   std::vector<Force<S>> pA;
   std::vector<Motion<S>> c;
-  std::vector<Vec6<S>> U;
-  VecX<S> D, u;
+  std::vector<Vec6<S>> U;        // per coordinate: U = IA S (RBDA 7.43)
+  VecX<S> D, u;                  // per coordinate: D = Sᵀ U (one-coordinate joints), u = τ − Sᵀ p^A
+  std::vector<Mat6<S>> D_chol;   // per body: Cholesky factor L of D_i = S_iᵀ U_i (multi-coordinate joints)
   VecX<S> qdd;  // ABA result
 
   // Centre of mass (centerOfMass).
@@ -47,30 +52,36 @@ struct Data {
 
 template <class S>
 Data<S>::Data(const Model<S>& model) {
-  const int n = model.nv();
+  const int n = model.nv(), nb = model.nbodies();
   const S nan(std::numeric_limits<double>::quiet_NaN());
   const Vec3<S> nan3 = Vec3<S>::Constant(nan);
   const Motion<S> mnan{nan3, nan3};
   const Force<S> fnan{nan3, nan3};
   const Transform<S> Xnan{Mat3<S>::Constant(nan), nan3};
-  X_up.assign(n, Xnan);
-  X_world.assign(n, Xnan);
-  v.assign(n, mnan);
-  a.assign(n, mnan);
-  a_bias.assign(n, mnan);
-  a_gf.assign(n, mnan);
-  f.assign(n, fnan);
+  S_joint.assign(n, mnan);
+  for (int i = 0; i < nb; ++i)
+    if (model.num_coordinates[i] == 1) S_joint[model.first_coordinate[i]] = motionSubspace(model, i);
+  X_up.assign(nb, Xnan);
+  X_world.assign(nb, Xnan);
+  v.assign(nb, mnan);
+  a.assign(nb, mnan);
+  a_bias.assign(nb, mnan);
+  a_gf.assign(nb, mnan);
+  f.assign(nb, fnan);
   tau = VecX<S>::Constant(n, nan);
-  Ic.assign(n, RigidInertia<S>{nan, nan3, Mat3<S>::Constant(nan)});
+  Ic.assign(nb, RigidInertia<S>{nan, nan3, Mat3<S>::Constant(nan)});
   S_world.assign(n, mnan);
   M = MatX<S>::Constant(n, n, nan);
-  for (int i = 0; i < n; ++i)  // structural zeros of M: neither body supports the other
-    for (int j = 0; j < n; ++j)
-      if (!model.isAncestor(i, j) && !model.isAncestor(j, i)) M(i, j) = S(0);
-  IA.assign(n, Mat6<S>::Constant(nan));
-  pA.assign(n, fnan);
-  c.assign(n, mnan);
+  for (int i = 0; i < n; ++i)  // structural zeros of M: neither coordinate's body supports the other's
+    for (int j = 0; j < n; ++j) {
+      const int bi = model.coordinate_body[i], bj = model.coordinate_body[j];
+      if (!model.isAncestor(bi, bj) && !model.isAncestor(bj, bi)) M(i, j) = S(0);
+    }
+  IA.assign(nb, Mat6<S>::Constant(nan));
+  pA.assign(nb, fnan);
+  c.assign(nb, mnan);
   U.assign(n, Vec6<S>::Constant(nan));
+  D_chol.assign(nb, Mat6<S>::Constant(nan));
   D = VecX<S>::Constant(n, nan);
   u = VecX<S>::Constant(n, nan);
   qdd = VecX<S>::Constant(n, nan);

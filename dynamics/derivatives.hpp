@@ -32,11 +32,12 @@ struct DerivativeData {
         q(model.nv()), v(model.nv()), w(model.nv()),
         dtau_dq(model.nv(), model.nv()), dtau_dv(model.nv(), model.nv()),
         dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()),
-        subtree_end(model.nv()), g_n(model.nv(), Eigen::Matrix<double, 3, N>::Zero()),
-        g_f(model.nv(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nv(), false) {
-    // subtree_end[i]: one past the largest index in the subtree of i.
-    for (int i = 0; i < model.nv(); ++i) subtree_end[i] = i + 1;
-    for (int i = model.nv() - 1; i >= 0; --i)
+        subtree_end(model.nbodies()), g_n(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()),
+        g_f(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nbodies(), false),
+        active(model.nbodies(), false) {
+    // subtree_end[i]: one past the largest body index in the subtree of body i.
+    for (int i = 0; i < model.nbodies(); ++i) subtree_end[i] = i + 1;
+    for (int i = model.nbodies() - 1; i >= 0; --i)
       if (model.parent[i] >= 0) subtree_end[model.parent[i]] = std::max(subtree_end[model.parent[i]], subtree_end[i]);
   }
 
@@ -47,11 +48,12 @@ struct DerivativeData {
   MatX<double> dtau_dq, dtau_dv;               // RNEA: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = M is data.M)
   MatX<double> dqdd_dq, dqdd_dv, dqdd_dtau;    // ABA: ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (= M⁻¹)
 
-  // rneaDerivatives' scratch: subtree extents and the derivative of the force each ancestor
-  // receives from the current chunk (moment and force rows, one column per direction).
+  // rneaDerivatives' scratch, per body: subtree extents and the derivative of the force each
+  // ancestor receives from the current chunk (moment and force rows, one column per direction).
   std::vector<int> subtree_end;
   std::vector<Eigen::Matrix<double, 3, N>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, N>>> g_n, g_f;
   std::vector<bool> touched;
+  std::vector<bool> active;  // body reached by the current chunk
 };
 
 namespace detail {
@@ -83,22 +85,66 @@ void extract(const VecX<Dual<N>>& y, int first, int ndir, MatX<double>* blocks[3
     for (int i = 0; i < n; ++i) J(i, dir % n) = y[i].derivatives()[c];
   }
 }
+
+// Mixed double × dual spatial operations: the model's constants (transforms of bodies whose
+// coordinates are not seeded, inertias, joint axes) stay double, so each product with a dual
+// vector costs one scaled derivative instead of the two of a dual × dual product.
+template <class D>
+SALTUS_INLINE Motion<D> apply(const Transform<double>& X, const Motion<D>& m) {  // X m
+  const Vec3<D> v = m.v - X.r.cross(m.w);
+  return {X.E * m.w, X.E * v};
+}
+template <class D>
+SALTUS_INLINE Force<D> applyTranspose(const Transform<double>& X, const Force<D>& f) {  // Xᵀ f
+  const Vec3<D> ff = X.E.transpose() * f.f;
+  const Vec3<D> n = X.E.transpose() * f.n;
+  return {n + X.r.cross(ff), ff};
+}
+template <class D>
+SALTUS_INLINE Motion<D> plus(const Motion<D>& a, const Motion<double>& b) {
+  return {a.w + b.w, a.v + b.v};
+}
+template <class D>
+SALTUS_INLINE Motion<D> cross(const Motion<D>& a, const Motion<double>& b) {  // crm(a) b
+  return {a.w.cross(b.w), a.w.cross(b.v) + a.v.cross(b.w)};
+}
+template <class D>
+SALTUS_INLINE Force<D> times(const RigidInertia<double>& I, const Motion<D>& v) {  // I v (RBDA 2.62)
+  return {I.I * v.w + I.h.cross(v.v), I.m * v.v - I.h.cross(v.w)};
+}
+// f = I a + v ×* I v (RBDA 5.9) with a double inertia.
+template <class D>
+SALTUS_INLINE Force<D> bodyForce(const RigidInertia<double>& I, const Motion<D>& a, const Motion<D>& v) {
+  const Force<D> Iv = times(I, v);
+  const Force<D> Ia = times(I, a);
+  return {Ia.n + v.w.cross(Iv.n) + v.v.cross(Iv.f), Ia.f + v.w.cross(Iv.f)};
+}
+// Derivative row of S_iᵀ f for a one-coordinate joint with the double model's axis.
+template <int N>
+SALTUS_INLINE Eigen::Matrix<double, 1, N> jointForceDerivative(const Model<double>& model, int i, const Force<Dual<N>>& f) {
+  const Vec3<Dual<N>>& x = model.joint_type[i] == JointType::Revolute ? f.n : f.f;
+  const int k = model.axis_kind[i];
+  if (k >= 0) return x[k].derivatives().transpose();
+  const Vec3<double>& a = model.axis[i];
+  return (a[0] * x[0].derivatives() + a[1] * x[1].derivatives() + a[2] * x[2].derivatives()).transpose();
+}
 }  // namespace detail
 
 // ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈) into dd.dtau_dq, dd.dtau_dv; ∂τ/∂q̈ = M(q) into
 // dd.data.M (CRBA: RNEA is linear in q̈).
 //
-// A direction q_j or q̇_j changes the outward recursion only in the subtree of j and the inward
-// one only there and along j's ancestors. Each chunk takes N/2 consecutive coordinates with
-// both of their directions, runs the outward and inward steps in dual numbers over the bodies
-// the chunk reaches, and carries the derivative of the force transmitted to the ancestors as a
-// plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
+// A direction q_j or q̇_j changes the outward recursion only in the subtree of j's body and the
+// inward one only there and along its ancestors. Each chunk takes N/2 consecutive coordinates
+// with both of their directions, runs the outward and inward steps in dual numbers over the
+// bodies the chunk reaches, and carries the derivative of the force transmitted to the
+// ancestors as a plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
   static_assert(N % 2 == 0, "a chunk holds (q_j, q̇_j) pairs");
   using D = Dual<N>;
   using DerN = Eigen::Matrix<double, 3, N>;
+  using RowN = Eigen::Matrix<double, 1, N>;
   constexpr int K = N / 2;
   const int n = model.nv();
   Data<double>& dat = dd.data;
@@ -107,42 +153,110 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
   rnea(model, dat, q, v, a);  // values of every body
   dd.dtau_dq.setZero();
   dd.dtau_dv.setZero();
-  const Motion<D> a0{Vec3<D>::Zero(), -mdual.gravity};
+  const Motion<double> a0{Vec3<double>::Zero(), -model.gravity};
   auto promote = [](const Motion<double>& m) { return Motion<D>{m.w.template cast<D>(), m.v.template cast<D>()}; };
   for (int first = 0; first < n; first += K) {
     const int last = std::min(first + K, n);
-    int end = last;
-    for (int j = first; j < last; ++j) end = std::max(end, dd.subtree_end[j]);
-    // Outward, over the bodies the chunk reaches.
-    for (int i = first; i < end; ++i) {
-      const int p = model.parent[i];
-      D qi(q[i]), vi(v[i]), ai(a[i]);
-      if (i < last) {
-        qi.derivatives()[2 * (i - first)] = 1.0;
-        vi.derivatives()[2 * (i - first) + 1] = 1.0;
+    // Bodies [b0, b1] hold the chunk's coordinates; the active bodies are those and their
+    // subtrees, [b0, end) less the bodies below an ancestor of b0 (their derivatives are zero).
+    const int b0 = model.coordinate_body[first], b1 = model.coordinate_body[last - 1];
+    int end = b1 + 1;
+    for (int b = b0; b <= b1; ++b) end = std::max(end, dd.subtree_end[b]);
+    // Outward over the active bodies (RBDA 5.7–5.9 in dual numbers).
+    for (int i = b0; i < end; ++i) {
+      if (i > b1 && !(model.parent[i] >= b0 && dd.active[model.parent[i]])) {
+        dd.active[i] = false;
+        continue;
       }
-      if (p >= first) {
-        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &dual.v[p], dual.a_gf[p]);
-      } else if (p >= 0) {
-        const Motion<D> vp = promote(dat.v[p]);
-        rneaForwardStep(mdual, dual, i, qi, vi, true, ai, &vp, promote(dat.a_gf[p]));
+      dd.active[i] = true;
+      const int p = model.parent[i], k0 = model.first_coordinate[i], nc = model.num_coordinates[i];
+      Motion<D> vi, ai;
+      if (i <= b1) {
+        // A body holding seeded coordinates: its joint transform is dual (model_dual's jcalc).
+        D qi[6], qdi[6];
+        for (int c = 0; c < nc; ++c) {
+          const int k = k0 + c;
+          qi[c] = D(q[k]);
+          qdi[c] = D(v[k]);
+          if (k >= first && k < last) {
+            qi[c].derivatives()[2 * (k - first)] = 1.0;
+            qdi[c].derivatives()[2 * (k - first) + 1] = 1.0;
+          }
+        }
+        Motion<D> vJ, aJ;
+        if (nc == 1) {
+          dual.X_up[i] = jointTransformUp(mdual, i, qi[0]);
+          vJ = jointVelocity(mdual, i, qdi[0]);
+          aJ = promote(jointVelocity(model, i, a[k0]));
+        } else {
+          Motion<D>* Scol = &dual.S_joint[k0];
+          dual.X_up[i] = multiJointTransformUp(mdual, i, qi, Scol);
+          vJ = multiJointVelocity(mdual, i, Scol, qdi);
+          D ad[6];
+          for (int c = 0; c < nc; ++c) ad[c] = D(a[k0 + c]);
+          aJ = multiJointVelocity(mdual, i, Scol, ad) + multiJointBias(mdual, i, Scol, qdi, vJ);
+        }
+        const Transform<D>& X = dual.X_up[i];
+        if (p < 0) {
+          vi = vJ;
+          ai = X.apply(promote(a0)) + aJ;
+        } else {
+          const bool dual_parent = p >= b0;
+          vi = X.apply(dual_parent ? dual.v[p] : promote(dat.v[p])) + vJ;
+          ai = X.apply(dual_parent ? dual.a_gf[p] : promote(dat.a_gf[p])) + aJ + vi.cross(vJ);
+        }
       } else {
-        rneaForwardStep<D>(mdual, dual, i, qi, vi, true, ai, nullptr, a0);
+        // Below the chunk: the joint is constant (double transform and S), the parent is dual.
+        const Transform<double>& X = dat.X_up[i];
+        Motion<double> vJ, aJ;
+        if (nc == 1) {
+          vJ = jointVelocity(model, i, v[k0]);
+          aJ = jointVelocity(model, i, a[k0]);
+        } else {
+          vJ = multiJointVelocity(model, i, &dat.S_joint[k0], v.data() + k0);
+          aJ = multiJointVelocity(model, i, &dat.S_joint[k0], a.data() + k0) +
+               multiJointBias(model, i, &dat.S_joint[k0], v.data() + k0, vJ);
+        }
+        vi = detail::plus(detail::apply(X, dual.v[p]), vJ);
+        ai = detail::plus(detail::apply(X, dual.a_gf[p]), aJ) + detail::cross(vi, vJ);
       }
+      dual.v[i] = vi;
+      dual.a_gf[i] = ai;
+      dual.f[i] = model.massless[i] ? Force<D>::Zero() : detail::bodyForce(model.inertia[i], ai, vi);
     }
     // Inward over the same bodies; forces leaving the range go to dd.g_n/g_f of the ancestor.
-    auto store = [&](int i, const Eigen::Matrix<double, 1, N>& dtau) {
+    auto store = [&](int k, const RowN& dtau) {
       for (int c = 0; c < last - first; ++c) {
-        dd.dtau_dq(i, first + c) = dtau[2 * c];
-        dd.dtau_dv(i, first + c) = dtau[2 * c + 1];
+        dd.dtau_dq(k, first + c) = dtau[2 * c];
+        dd.dtau_dv(k, first + c) = dtau[2 * c + 1];
       }
     };
-    for (int i = end - 1; i >= first; --i) {
-      store(i, jointForce(mdual, i, dual.f[i]).derivatives().transpose());
+    for (int i = end - 1; i >= b0; --i) {
+      if (!dd.active[i]) continue;
       const int p = model.parent[i];
-      if (p < 0) continue;
-      const Force<D> F = dual.X_up[i].applyTranspose(dual.f[i]);
-      if (p >= first) {
+      Force<D> F;
+      if (i <= b1) {
+        D tau_i[6];
+        jointForces(mdual, dual, i, dual.f[i], tau_i);
+        for (int c = 0; c < model.num_coordinates[i]; ++c)
+          store(model.first_coordinate[i] + c, tau_i[c].derivatives().transpose());
+        if (p < 0) continue;
+        F = dual.X_up[i].applyTranspose(dual.f[i]);
+      } else {
+        if (model.num_coordinates[i] == 1) {
+          store(model.first_coordinate[i], detail::jointForceDerivative<N>(model, i, dual.f[i]));
+        } else {
+          for (int c = 0, k = model.first_coordinate[i]; c < model.num_coordinates[i]; ++c, ++k) {
+            const Motion<double>& sk = dat.S_joint[k];
+            RowN row = RowN::Zero();
+            for (int r = 0; r < 3; ++r)
+              row += sk.w[r] * dual.f[i].n[r].derivatives().transpose() + sk.v[r] * dual.f[i].f[r].derivatives().transpose();
+            store(k, row);
+          }
+        }
+        F = detail::applyTranspose(dat.X_up[i], dual.f[i]);
+      }
+      if (p >= b0) {
         dual.f[p] += F;
       } else {
         for (int r = 0; r < 3; ++r) {
@@ -153,13 +267,20 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
       }
     }
     // Ancestors: ∂τ_p = S_pᵀ ∂f_p, and ∂f_λ(p) += ^pX_λᵀ ∂f_p with the constant double transform.
-    for (int p = first - 1; p >= 0; --p) {
+    for (int p = b0 - 1; p >= 0; --p) {
       if (!dd.touched[p]) continue;
       const DerN& gn = dd.g_n[p];
       const DerN& gf = dd.g_f[p];
-      const int k = model.axis_kind[p];
-      const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
-      store(p, k >= 0 ? Eigen::Matrix<double, 1, N>(along.row(k)) : Eigen::Matrix<double, 1, N>(model.axis[p].transpose() * along));
+      if (model.num_coordinates[p] == 1) {
+        const int k = model.axis_kind[p];
+        const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
+        store(model.first_coordinate[p], k >= 0 ? RowN(along.row(k)) : RowN(model.axis[p].transpose() * along));
+      } else {
+        for (int c = 0, k = model.first_coordinate[p]; c < model.num_coordinates[p]; ++c, ++k) {
+          const Motion<double>& s = dat.S_joint[k];
+          store(k, s.w.transpose() * gn + s.v.transpose() * gf);
+        }
+      }
       const int pp = model.parent[p];
       if (pp >= 0) {
         const Transform<double>& X = dat.X_up[p];

@@ -12,7 +12,7 @@ template <class S>
 const Vec3<S>& centerOfMass(const Model<S>& model, Data<S>& data) {
   data.mass = S(0);
   data.com.setZero();
-  for (int i = 0; i < model.nv(); ++i) {
+  for (int i = 0; i < model.nbodies(); ++i) {
     const RigidInertia<S>& I = model.inertia[i];
     data.mass += I.m;
     // m c_W = m p_WB + R_WB h
@@ -26,7 +26,7 @@ const Vec3<S>& centerOfMass(const Model<S>& model, Data<S>& data) {
 template <class S>
 S kineticEnergy(const Model<S>& model, const Data<S>& data) {
   S T(0);
-  for (int i = 0; i < model.nv(); ++i) T += dot(data.v[i], model.inertia[i] * data.v[i]);
+  for (int i = 0; i < model.nbodies(); ++i) T += dot(data.v[i], model.inertia[i] * data.v[i]);
   return T / S(2);
 }
 
@@ -34,7 +34,7 @@ S kineticEnergy(const Model<S>& model, const Data<S>& data) {
 template <class S>
 S potentialEnergy(const Model<S>& model, const Data<S>& data) {
   S V(0);
-  for (int i = 0; i < model.nv(); ++i) {
+  for (int i = 0; i < model.nbodies(); ++i) {
     const RigidInertia<S>& I = model.inertia[i];
     const Vec3<S> mc = I.m * data.X_world[i].r + data.X_world[i].E.transpose() * I.h;
     V -= model.gravity.dot(mc);

@@ -7,11 +7,42 @@
 
 namespace saltus::dynamics {
 
+// ^iX_λ(i) for body i; for a multi-coordinate joint also its S_i(q) columns into data.S_joint.
+template <class S>
+SALTUS_INLINE const Transform<S>& updateJointTransform(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& q) {
+  const int k = model.first_coordinate[i];
+  data.X_up[i] = model.num_coordinates[i] == 1 ? jointTransformUp(model, i, q[k])
+                                               : multiJointTransformUp(model, i, q.data() + k, &data.S_joint[k]);
+  return data.X_up[i];
+}
+
+// v_J = S_i q̇_i and c_J = Ṡ_i q̇_i (zero for one-coordinate joints). Needs updateJointTransform.
+template <class S>
+SALTUS_INLINE Motion<S> jointVelocity(const Model<S>& model, const Data<S>& data, int i, const VecRef<S>& v,
+                                      Motion<S>* cJ) {
+  const int k = model.first_coordinate[i];
+  if (model.num_coordinates[i] == 1) {
+    *cJ = Motion<S>::Zero();
+    return jointVelocity(model, i, v[k]);
+  }
+  const Motion<S> vJ = multiJointVelocity(model, i, &data.S_joint[k], v.data() + k);
+  *cJ = multiJointBias(model, i, &data.S_joint[k], v.data() + k, vJ);
+  return vJ;
+}
+
+// S_i q̈_i. Needs updateJointTransform.
+template <class S>
+SALTUS_INLINE Motion<S> jointAcceleration(const Model<S>& model, const Data<S>& data, int i, const VecRef<S>& a) {
+  const int k = model.first_coordinate[i];
+  if (model.num_coordinates[i] == 1) return jointVelocity(model, i, a[k]);
+  return multiJointVelocity(model, i, &data.S_joint[k], a.data() + k);
+}
+
 // Poses: data.X_up, data.X_world.
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
-  for (int i = 0; i < model.nv(); ++i) {
-    data.X_up[i] = jointTransformUp(model, i, q[i]);
+  for (int i = 0; i < model.nbodies(); ++i) {
+    updateJointTransform(model, data, i, q);
     const int p = model.parent[i];
     data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
   }
@@ -21,32 +52,34 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q)
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                        const VecRef<S>& v) {
-  for (int i = 0; i < model.nv(); ++i) {
-    data.X_up[i] = jointTransformUp(model, i, q[i]);
+  for (int i = 0; i < model.nbodies(); ++i) {
+    updateJointTransform(model, data, i, q);
     const int p = model.parent[i];
-    const Motion<S> vJ = jointVelocity(model, i, v[i]);
+    Motion<S> cJ;
+    const Motion<S> vJ = jointVelocity(model, data, i, v, &cJ);
     if (p < 0) {
       data.X_world[i] = data.X_up[i];
       data.v[i] = vJ;
-      data.a_bias[i] = Motion<S>::Zero();
+      data.a_bias[i] = cJ;
     } else {
       data.X_world[i] = data.X_up[i] * data.X_world[p];
       data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
-      data.a_bias[i] = data.X_up[i].apply(data.a_bias[p]) + data.v[i].cross(vJ);  // RBDA 5.7
+      data.a_bias[i] = data.X_up[i].apply(data.a_bias[p]) + cJ + data.v[i].cross(vJ);  // RBDA 5.7
     }
   }
 }
 
-// Poses, velocities and accelerations a_i = ^iX_λ a_λ + S q̈ + v_i × S q̇ (RBDA 5.7).
+// Poses, velocities and accelerations a_i = ^iX_λ a_λ + S q̈ + c_J + v_i × S q̇ (RBDA 5.7).
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                        const VecRef<S>& v, const VecRef<S>& a) {
   forwardKinematics(model, data, q, v);
-  for (int i = 0; i < model.nv(); ++i) {
+  for (int i = 0; i < model.nbodies(); ++i) {
     const int p = model.parent[i];
-    const Motion<S> aJ = jointVelocity(model, i, a[i]);
-    data.a[i] = p < 0 ? aJ : data.X_up[i].apply(data.a[p]) + aJ;
-    if (p >= 0) data.a[i] += data.v[i].cross(jointVelocity(model, i, v[i]));
+    Motion<S> cJ;
+    const Motion<S> vJ = jointVelocity(model, data, i, v, &cJ);
+    const Motion<S> aJ = jointAcceleration(model, data, i, a) + cJ;
+    data.a[i] = p < 0 ? aJ : data.X_up[i].apply(data.a[p]) + aJ + data.v[i].cross(vJ);
   }
 }
 

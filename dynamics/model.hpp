@@ -1,10 +1,13 @@
 // The constant description of a kinematic tree (RBDA 4.1: λ(i), joint types, X_T, I_i).
 //
-// Every body i has exactly one one-coordinate joint connecting it to its parent λ(i) < i
-// (−1 is the fixed world), so the coordinate index of a joint is its body index and nq = nv.
-// Fixed URDF joints are merged into their parent body; floating bases are chains of
-// one-coordinate joints through massless virtual bodies (see BaseType), so generalised
-// velocities are always the time derivatives of the coordinates: v = q̇.
+// Every body i has exactly one joint connecting it to its parent λ(i) < i (−1 is the fixed
+// world). Joints of URDF links have one coordinate; a floating base is one multi-coordinate
+// joint (JointType::Planar, 3 coordinates, or JointType::Free, 6) on the root body. Body i's
+// coordinates are first_coordinate[i] .. first_coordinate[i] + num_coordinates[i] − 1, so a body
+// index is a coordinate index only while every joint has one coordinate (fixed-base models).
+// Coordinates follow the bodies' topological order. Fixed URDF joints are merged into their
+// parent body. Generalised velocities are always the time derivatives of the coordinates:
+// v = q̇, nq = nv.
 #pragma once
 
 #include <limits>
@@ -15,7 +18,9 @@
 
 namespace saltus::dynamics {
 
-enum class JointType { Revolute, Prismatic };
+// Revolute, Prismatic: one coordinate along / about `axis`.
+// Planar: the three coordinates of BaseType::Planar; Free: the six of BaseType::Free (below).
+enum class JointType { Revolute, Prismatic, Planar, Free };
 
 // How the tree's root link is attached to the world.
 //  Fixed:  the root link is the world.
@@ -25,6 +30,8 @@ enum class JointType { Revolute, Prismatic };
 //          world axes, then intrinsic Z–Y′–X″ Euler angles (yaw ψ, pitch θ, roll φ), so the base
 //          orientation is R = Rz(ψ) Ry(θ) Rx(φ). Singular at θ = ±π/2 (gimbal lock), where the
 //          mass matrix loses rank; keep pitch away from ±π/2 or re-parametrise.
+// Planar and Free bases are one joint (JointType::Planar / Free) between the world and the root
+// link's body, body 0, whose frame is the root link frame.
 enum class BaseType { Fixed, Planar, Free };
 
 const char* toString(BaseType base);
@@ -68,28 +75,45 @@ struct Model {
   std::string name;    // robot name
   std::string source;  // file it was read from, or "builder"
   BaseType base = BaseType::Fixed;
-  int n_base = 0;      // number of leading base coordinates (0, 3 or 6)
+  int n_base = 0;      // number of leading base coordinates (0, 3 or 6): those of body 0's joint
 
-  // Per body i (= per coordinate i), in topological order: parent[i] < i.
+  // Per body i, in topological order: parent[i] < i.
   std::vector<int> parent;                 // λ(i), −1 for the world
   std::vector<JointType> joint_type;
-  std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame
+  std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame (zero for Planar, Free)
   std::vector<int> axis_kind;              // 0, 1, 2: axis is +x, +y, +z (fast paths); −1: general
   std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
   std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
-  std::vector<bool> massless;              // I_i = 0 (virtual bodies of a floating base)
+  std::vector<bool> massless;              // I_i = 0 (intermediate links of multi-axis mechanisms)
   std::vector<std::string> body_name;
+  std::vector<int> first_coordinate;       // index of body i's first coordinate
+  std::vector<int> num_coordinates;        // 1, or 3 (Planar), 6 (Free)
+
+  // Per coordinate k.
   std::vector<std::string> coordinate_name;  // URDF joint name (or base_x ...)
   std::vector<JointLimits> limits;
+  std::vector<int> coordinate_body;          // the body whose joint coordinate k belongs to
+  // The coordinate before k on the path to the root: k − 1 inside a multi-coordinate joint, else
+  // the last coordinate of the parent body (−1 at the root). The coordinates form a tree in which
+  // M(q)_kl can be non-zero only for l on k's path (or k on l's).
+  std::vector<int> parent_coordinate;
 
   Vec3<S> gravity = Vec3<S>(S(0), S(0), S(-9.81));
 
   std::vector<Frame> frames;
   std::vector<Visual> visuals;
 
-  int nv() const { return static_cast<int>(parent.size()); }
+  int nv() const { return static_cast<int>(coordinate_body.size()); }
   int nq() const { return nv(); }
-  int nbodies() const { return nv(); }
+  int nbodies() const { return static_cast<int>(parent.size()); }
+  // Whether coordinate k is a length (prismatic joint, base translation) rather than an angle.
+  bool isTranslation(int k) const {
+    const int b = coordinate_body[k];
+    const JointType t = joint_type[b];
+    if (t == JointType::Prismatic) return true;
+    if (t == JointType::Revolute) return false;
+    return k - first_coordinate[b] < num_coordinates[b] - (t == JointType::Free ? 3 : 1);
+  }
   S totalMass() const {
     S m(0);
     for (const auto& I : inertia) m += I.m;
@@ -103,6 +127,22 @@ struct Model {
   bool isAncestor(int a, int b) const {
     while (b > a) b = parent[b];
     return a == b;
+  }
+  // Fills first_coordinate, coordinate_body and parent_coordinate from parent and
+  // num_coordinates (the builder calls it).
+  void numberCoordinates() {
+    first_coordinate.assign(parent.size(), 0);
+    coordinate_body.clear();
+    parent_coordinate.clear();
+    for (int i = 0; i < nbodies(); ++i) {
+      first_coordinate[i] = static_cast<int>(coordinate_body.size());
+      for (int c = 0; c < num_coordinates[i]; ++c) {
+        const int p = parent[i];
+        parent_coordinate.push_back(c > 0 ? first_coordinate[i] + c - 1
+                                          : p < 0 ? -1 : first_coordinate[p] + num_coordinates[p] - 1);
+        coordinate_body.push_back(i);
+      }
+    }
   }
 
   template <class T>
@@ -123,8 +163,12 @@ struct Model {
     for (const auto& I : inertia) m.inertia.push_back(I.template cast<T>());
     m.massless = massless;
     m.body_name = body_name;
+    m.first_coordinate = first_coordinate;
+    m.num_coordinates = num_coordinates;
     m.coordinate_name = coordinate_name;
     m.limits = limits;
+    m.coordinate_body = coordinate_body;
+    m.parent_coordinate = parent_coordinate;
     m.gravity = gravity.template cast<T>();
     m.frames = frames;
     m.visuals = visuals;
@@ -141,7 +185,7 @@ inline int axisKind(const Eigen::Vector3d& a) {
 
 template <class S>
 int Model<S>::bodyIndex(const std::string& body) const {
-  for (int i = 0; i < nv(); ++i)
+  for (int i = 0; i < nbodies(); ++i)
     if (body_name[i] == body) return i;
   return -1;
 }

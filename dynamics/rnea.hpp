@@ -3,20 +3,32 @@
 
 #include "dynamics/data.hpp"
 #include "dynamics/joint.hpp"
+#include "dynamics/kinematics.hpp"
 
 namespace saltus::dynamics {
 
 // The outward step of RNEA for body i, given its parent's velocity v_λ and acceleration a_λ
-// (offset by −g): fills X_up[i], v[i], a_gf[i] and the body force f[i] (RBDA 5.7–5.9).
-// has_qdd == false means q̈_i = 0; v_parent == nullptr means the parent is the fixed world.
+// (offset by −g): fills X_up[i], v[i], a_gf[i] and the body force f[i] (RBDA 5.7–5.9):
+//   v_i = ^iX_λ v_λ + S_i q̇_i,  a_i = ^iX_λ a_λ + S_i q̈_i + c_J + v_i × S_i q̇_i,
+//   f_i = I_i a_i + v_i ×* I_i v_i.
+// q, qd, qdd point at body i's first coordinate; qdd == nullptr means q̈_i = 0; v_parent ==
+// nullptr means the parent is the fixed world.
 template <class S>
-SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S& q, const S& qd,
-                                   bool has_qdd, const S& qdd, const Motion<S>* v_parent,
-                                   const Motion<S>& a_parent) {
-  data.X_up[i] = jointTransformUp(model, i, q);
-  const Motion<S> vJ = jointVelocity(model, i, qd);
-  Motion<S> ai = data.X_up[i].apply(a_parent);
-  if (has_qdd) ai += jointVelocity(model, i, qdd);
+SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
+                                   const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
+  Motion<S> vJ, ai;
+  if (model.num_coordinates[i] == 1) {
+    data.X_up[i] = jointTransformUp(model, i, *q);
+    vJ = jointVelocity(model, i, *qd);
+    ai = data.X_up[i].apply(a_parent);
+    if (qdd) ai += jointVelocity(model, i, *qdd);
+  } else {
+    Motion<S>* Scol = &data.S_joint[model.first_coordinate[i]];
+    data.X_up[i] = multiJointTransformUp(model, i, q, Scol);
+    vJ = multiJointVelocity(model, i, Scol, qd);
+    ai = data.X_up[i].apply(a_parent) + multiJointBias(model, i, Scol, qd, vJ);
+    if (qdd) ai += multiJointVelocity(model, i, Scol, qdd);
+  }
   if (v_parent) {
     data.v[i] = data.X_up[i].apply(*v_parent) + vJ;
     ai += data.v[i].cross(vJ);
@@ -25,10 +37,19 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
   }
   data.a_gf[i] = ai;
   const RigidInertia<S>& I = model.inertia[i];
-  if (model.massless[i])  // a virtual base body carries no force of its own
+  if (model.massless[i])  // an intermediate link of a multi-axis mechanism carries no force of its own
     data.f[i] = Force<S>::Zero();
   else
     data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
+}
+
+// τ_i = S_iᵀ f_i into tau[first_coordinate[i] ...] (RBDA Table 5.1, inward loop).
+template <class S>
+SALTUS_INLINE void jointForces(const Model<S>& model, const Data<S>& data, int i, const Force<S>& f, S* tau) {
+  if (model.num_coordinates[i] == 1)
+    *tau = jointForce(model, i, f);
+  else
+    multiJointForce(model, i, &data.S_joint[model.first_coordinate[i]], f, tau);
 }
 
 namespace detail {
@@ -36,15 +57,15 @@ namespace detail {
 template <class S>
 const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v,
                     const VecRef<S>* a) {
-  const int n = model.nv();
+  const int nb = model.nbodies();
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};  // a_0 = −a_g: gravity as a base acceleration
-  for (int i = 0; i < n; ++i) {
-    const int p = model.parent[i];
-    rneaForwardStep(model, data, i, q[i], v[i], a != nullptr, a ? S((*a)[i]) : S(0),
+  for (int i = 0; i < nb; ++i) {
+    const int p = model.parent[i], k = model.first_coordinate[i];
+    rneaForwardStep(model, data, i, q.data() + k, v.data() + k, a ? a->data() + k : nullptr,
                     p < 0 ? nullptr : &data.v[p], p < 0 ? a0 : data.a_gf[p]);
   }
-  for (int i = n - 1; i >= 0; --i) {
-    data.tau[i] = jointForce(model, i, data.f[i]);
+  for (int i = nb - 1; i >= 0; --i) {
+    jointForces(model, data, i, data.f[i], data.tau.data() + model.first_coordinate[i]);
     const int p = model.parent[i];
     if (p >= 0) data.f[p] += data.X_up[i].applyTranspose(data.f[i]);
   }

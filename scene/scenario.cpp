@@ -286,7 +286,7 @@ bool isPlanar(const Model<double>& model) {
   dynamics::Data<double> data(model);
   const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nv());
   dynamics::forwardKinematics(model, data, q);
-  for (int i = 0; i < model.nv(); ++i) {
+  for (int i = 0; i < model.nbodies(); ++i) {  // a fixed base: one-coordinate joints only
     const Eigen::Vector3d a = dynamics::bodyRotation(data, i) * model.axis[i];
     const bool ok = model.joint_type[i] == dynamics::JointType::Revolute ? a.cross(Eigen::Vector3d::UnitY()).norm() < 1e-12
                                                                          : std::abs(a.y()) < 1e-12;

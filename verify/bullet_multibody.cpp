@@ -23,7 +23,9 @@
 // (the pivot is the saltus joint origin = body origin). A revolute joint then gives
 // P_iᵀ R(a, q)ᵀ E_T P_p = R(P_iᵀ a, q)ᵀ P_iᵀ E_T P_p = quat(axis, −q) · rotParentToThis, which is
 // exactly Bullet's update; a prismatic joint moves the com by q axis in this frame, also Bullet's.
-// For the world (fixed base) P = 1, c = 0.
+// For the world (fixed base) P = 1, c = 0. A multi-coordinate base joint (planar; free with
+// FreeBase::VirtualLinks) is expanded into its chain of one-coordinate joints (x, z, θ; x, y, z,
+// yaw, pitch, roll) through massless links with P = 1, c = 0 at the body origin.
 #include "verify/bullet_multibody.hpp"
 
 #include <stdexcept>
@@ -86,31 +88,24 @@ Eigen::Vector3d eulerRateBias(const Eigen::Vector3d& eta, const Eigen::Vector3d&
 
 BulletMultiBody::BulletMultiBody(const dynamics::Model<double>& model, FreeBase free_base)
     : model_(model) {
-  const int n = model_.nv();
+  const int nb = model_.nbodies();
   native_free_ = model_.base == BaseType::Free && free_base == FreeBase::Native;
-  if (native_free_) {
-    if (model_.n_base != 6 || n < 6 || model_.parent[5] != 4)
-      throw std::invalid_argument("BulletMultiBody: a free base must be the six-body virtual chain");
-    for (int i = 6; i < n; ++i)
-      if (model_.parent[i] < 5)
-        throw std::invalid_argument("BulletMultiBody: body '" + model_.body_name[i] +
-                                    "' hangs from the virtual base chain");
-    first_link_body_ = 6;
-  }
+  if (native_free_ && (nb < 1 || model_.joint_type[0] != JointType::Free))
+    throw std::invalid_argument("BulletMultiBody: a free base must be body 0's free joint");
 
   // Centres of mass and principal frames.
-  P_.assign(n, Eigen::Matrix3d::Identity());
-  c_.assign(n, Eigen::Vector3d::Zero());
-  m_.assign(n, 0.0);
-  std::vector<Eigen::Vector3d> moments(n, Eigen::Vector3d::Zero());
-  for (int i = 0; i < n; ++i) {
+  P_.assign(nb, Eigen::Matrix3d::Identity());
+  c_.assign(nb, Eigen::Vector3d::Zero());
+  m_.assign(nb, 0.0);
+  std::vector<Eigen::Vector3d> moments(nb, Eigen::Vector3d::Zero());
+  for (int i = 0; i < nb; ++i) {
     const auto& I = model_.inertia[i];
     m_[i] = I.m;
     if (!(I.m > 0)) {
       if (I.h.norm() > 0 || I.I.norm() > 0)
         throw std::invalid_argument("BulletMultiBody: body '" + model_.body_name[i] +
                                     "' has no mass but a first or second moment");
-      continue;  // massless (virtual) body: frame at the body origin
+      continue;  // massless body: frame at the body origin
     }
     c_[i] = I.h / I.m;
     const Eigen::Matrix3d cx = dynamics::skew(c_[i]);
@@ -124,28 +119,67 @@ BulletMultiBody::BulletMultiBody(const dynamics::Model<double>& model, FreeBase 
     moments[i] = eig.eigenvalues().cwiseMax(0.0);
   }
 
-  const int root = first_link_body_ - 1;  // saltus body of Bullet's base (native free base only)
-  const int n_links = n - first_link_body_;
+  // Bullet links: one per one-coordinate joint; a multi-coordinate base joint (planar, or free
+  // with FreeBase::VirtualLinks) becomes its chain of one-coordinate joints through massless
+  // links at the body origin, the last of which carries the body.
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  last_link_of_body_.assign(nb, -1);
+  for (int i = native_free_ ? 1 : 0; i < nb; ++i) {
+    const int k = model_.first_coordinate[i];
+    const JointType t = model_.joint_type[i];
+    if (t == JointType::Revolute || t == JointType::Prismatic) {
+      links_.push_back({i, k, t == JointType::Revolute, model_.axis[i]});
+    } else {
+      if (model_.parent[i] >= 0 || !model_.X_tree[i].E.isIdentity(0) || !model_.X_tree[i].r.isZero(0))
+        throw std::invalid_argument("BulletMultiBody: a multi-coordinate joint must join the world to body 0");
+      if (t == JointType::Free) {
+        const Eigen::Vector3d axes[6] = {ex, ey, ez, ez, ey, ex};
+        for (int c = 0; c < 6; ++c) links_.push_back({i, k + c, c >= 3, axes[c]});
+      } else {  // Planar: x, z, θ about y
+        links_.push_back({i, k, false, ex});
+        links_.push_back({i, k + 1, false, ez});
+        links_.push_back({i, k + 2, true, ey});
+      }
+    }
+    last_link_of_body_[i] = static_cast<int>(links_.size()) - 1;
+  }
+
+  const int n_links = static_cast<int>(links_.size());
   if (native_free_)
-    mb_.reset(new btMultiBody(n_links, m_[root], toBt(moments[root]), false, false));
+    mb_.reset(new btMultiBody(n_links, m_[0], toBt(moments[0]), false, false));
   else
     mb_.reset(new btMultiBody(n_links, 1.0, btVector3(1, 1, 1), true, false));
 
-  for (int i = first_link_body_; i < n; ++i) {
-    const int k = i - first_link_body_;
-    const int p = model_.parent[i];
-    const int bt_parent = p < first_link_body_ ? -1 : p - first_link_body_;
-    const Eigen::Matrix3d Pp = p >= 0 ? P_[p] : Eigen::Matrix3d::Identity();
-    const Eigen::Vector3d cp = p >= 0 ? c_[p] : Eigen::Vector3d::Zero();
-    const auto& XT = model_.X_tree[i];
-    const Eigen::Matrix3d rot0 = P_[i].transpose() * XT.E * Pp;
-    const Eigen::Vector3d axis = P_[i].transpose() * model_.axis[i];
-    const Eigen::Vector3d e = Pp.transpose() * (XT.r - cp);
-    const Eigen::Vector3d d = P_[i].transpose() * c_[i];
-    if (model_.joint_type[i] == JointType::Revolute)
-      mb_->setupRevolute(k, m_[i], toBt(moments[i]), bt_parent, toBtQuat(rot0), toBt(axis), toBt(e), toBt(d), true);
+  for (int k = 0; k < n_links; ++k) {
+    const LinkSpec& ls = links_[k];
+    const int i = ls.body;
+    const bool carries_body = last_link_of_body_[i] == k;
+    // The frame of this link: body i's principal frame if it carries the body, else the body
+    // origin with world axes (a virtual link of a base joint, whose X_tree is the identity).
+    const Eigen::Matrix3d Pi = carries_body ? P_[i] : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d ci = carries_body ? c_[i] : Eigen::Vector3d::Zero();
+    const double mi = carries_body ? m_[i] : 0.0;
+    const Eigen::Vector3d Ii = carries_body ? moments[i] : Eigen::Vector3d::Zero();
+    int bt_parent;
+    Eigen::Matrix3d Pp = Eigen::Matrix3d::Identity(), ET = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d cp = Eigen::Vector3d::Zero(), rT = Eigen::Vector3d::Zero();
+    if (k > 0 && links_[k - 1].body == i) {
+      bt_parent = k - 1;  // previous link of the same base joint: frame at the body origin
+    } else {
+      const int p = model_.parent[i];
+      bt_parent = p >= 0 ? last_link_of_body_[p] : -1;
+      if (p >= 0) Pp = P_[p], cp = c_[p];
+      ET = model_.X_tree[i].E;
+      rT = model_.X_tree[i].r;
+    }
+    const Eigen::Matrix3d rot0 = Pi.transpose() * ET * Pp;
+    const Eigen::Vector3d axis = Pi.transpose() * ls.axis;
+    const Eigen::Vector3d e = Pp.transpose() * (rT - cp);
+    const Eigen::Vector3d d = Pi.transpose() * ci;
+    if (ls.revolute)
+      mb_->setupRevolute(k, mi, toBt(Ii), bt_parent, toBtQuat(rot0), toBt(axis), toBt(e), toBt(d), true);
     else
-      mb_->setupPrismatic(k, m_[i], toBt(moments[i]), bt_parent, toBtQuat(rot0), toBt(axis), toBt(e), toBt(d), true);
+      mb_->setupPrismatic(k, mi, toBt(Ii), bt_parent, toBtQuat(rot0), toBt(axis), toBt(e), toBt(d), true);
     mb_->getLink(k).m_jointDamping = 0;
     mb_->getLink(k).m_jointFriction = 0;
   }
@@ -173,17 +207,17 @@ void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   mb_->clearForcesAndTorques();
   mb_->clearConstraintForces();
   const Eigen::Vector3d g = model_.gravity;
-  for (int i = first_link_body_; i < n; ++i) {
-    const int k = i - first_link_body_;
-    mb_->setJointPos(k, q[i]);
-    mb_->setJointVel(k, v[i]);
-    mb_->addJointTorque(k, tau[i]);
-    if (m_[i] > 0) mb_->addLinkForce(k, toBt(m_[i] * g));  // world force at the com
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
+    const int j = links_[k].coordinate, i = links_[k].body;
+    mb_->setJointPos(k, q[j]);
+    mb_->setJointVel(k, v[j]);
+    mb_->addJointTorque(k, tau[j]);
+    if (last_link_of_body_[i] == k && m_[i] > 0) mb_->addLinkForce(k, toBt(m_[i] * g));  // world force at the com
   }
   if (!native_free_) return;
 
-  // Free base: pose, twist and wrench of the root body (saltus body 5) from the Euler chain.
-  const int r = 5;
+  // Free base: pose, twist and wrench of the root body (saltus body 0, coordinates 0..5).
+  const int r = 0;
   const Eigen::Vector3d p = q.head<3>(), pd = v.head<3>();
   const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
   const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);  // root body in world
@@ -219,9 +253,9 @@ Eigen::VectorXd BulletMultiBody::forwardDynamics(const Eigen::VectorXd& q, const
 
   const int n = model_.nv();
   Eigen::VectorXd qdd(n);
-  for (int i = first_link_body_; i < n; ++i) qdd[i] = out[6 + (i - first_link_body_)];
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k) qdd[links_[k].coordinate] = out[6 + k];
   if (native_free_) {
-    const int r = 5;
+    const int r = 0;
     const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
     const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);
     const Eigen::Matrix3d E = eulerRateMatrix(eta);
@@ -238,12 +272,9 @@ Eigen::VectorXd BulletMultiBody::forwardDynamics(const Eigen::VectorXd& q, const
 }
 
 Eigen::Vector3d BulletMultiBody::comPosition(int body) const {
-  if (body < 0 || body >= model_.nv()) throw std::out_of_range("BulletMultiBody::comPosition: no such body");
-  if (native_free_ && body == 5) return toEigen(mb_->getBasePos());
-  if (body < first_link_body_)
-    throw std::out_of_range("BulletMultiBody::comPosition: body '" + model_.body_name[body] +
-                            "' is part of Bullet's base");
-  return toEigen(mb_->localPosToWorld(body - first_link_body_, btVector3(0, 0, 0)));
+  if (body < 0 || body >= model_.nbodies()) throw std::out_of_range("BulletMultiBody::comPosition: no such body");
+  if (native_free_ && body == 0) return toEigen(mb_->getBasePos());
+  return toEigen(mb_->localPosToWorld(last_link_of_body_[body], btVector3(0, 0, 0)));
 }
 
 }  // namespace saltus::verify

@@ -10,14 +10,15 @@
 //    the Euler-coordinate state (x, y, z, yaw, pitch, roll) and its rates are converted to the
 //    base pose and twist, base generalised forces to a wrench, and Bullet's base accelerations
 //    (ω̇, com acceleration) back to q̈ including the Euler-rate terms;
-//  - BaseType::Planar, or FreeBase::VirtualLinks: the virtual base chain is copied as massless
-//    prismatic/revolute links on a fixed Bullet base (Bullet's ABA copes with massless links
-//    whose subtree has mass).
+//  - BaseType::Planar, or FreeBase::VirtualLinks: the base joint is expanded into a chain of
+//    one-coordinate prismatic/revolute links, massless but for the last, on a fixed Bullet base
+//    (Bullet's ABA copes with massless links whose subtree has mass).
 // Forward dynamics is Bullet's computeAccelerationsArticulatedBodyAlgorithmMultiDof with dt = 0:
 // the accelerations are read from its output, no time stepping is involved.
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -34,8 +35,8 @@ enum class FreeBase {
 
 class BulletMultiBody {
  public:
-  // Throws std::invalid_argument when the model cannot be represented (e.g. a free base whose
-  // root body is not the sixth body of the virtual chain).
+  // Throws std::invalid_argument when the model cannot be represented (e.g. a multi-coordinate
+  // joint that is not body 0's joint to the world).
   explicit BulletMultiBody(const dynamics::Model<double>& model, FreeBase free_base = FreeBase::Native);
   ~BulletMultiBody();
   BulletMultiBody(const BulletMultiBody&) = delete;
@@ -50,16 +51,24 @@ class BulletMultiBody {
   int numLinks() const;
   bool nativeFloatingBase() const { return native_free_; }
 
-  // World pose of the centre of mass of saltus body i after the last forwardDynamics call, as
+  // World position of the centre of mass of saltus body i after the last forwardDynamics call, as
   // Bullet sees it (for kinematic cross-checks of the mapping).
   Eigen::Vector3d comPosition(int body) const;
 
  private:
   void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& tau);
 
+  struct LinkSpec {
+    int body;        // saltus body the link belongs to (the last link of a body carries it)
+    int coordinate;  // saltus coordinate of its joint
+    bool revolute;
+    Eigen::Vector3d axis;  // in the saltus body (joint) frame
+  };
+
   dynamics::Model<double> model_;
   bool native_free_ = false;
-  int first_link_body_ = 0;  // saltus body of Bullet link 0
+  std::vector<LinkSpec> links_;        // Bullet link k
+  std::vector<int> last_link_of_body_;  // per saltus body: its (last) Bullet link; −1 for Bullet's base
   std::vector<Eigen::Matrix3d> P_;  // principal axes of each body, in body coordinates
   std::vector<Eigen::Vector3d> c_;  // centre of mass of each body, body coordinates
   std::vector<double> m_;

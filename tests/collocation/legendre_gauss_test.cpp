@@ -28,7 +28,7 @@ TEST_P(LegendreGaussOrder, QuadratureIsExactToDegree2PMinus1) {
   // One degree more is not integrated exactly (the rule has order 2P).
   double sum = 0;
   for (int j = 0; j < P; ++j) sum += lg.b[j] * std::pow(lg.tau[j], 2 * P);
-  EXPECT_GT(std::abs(sum - 1.0 / (2 * P + 1)), 1e-8);
+  EXPECT_GT(std::abs(sum - 1.0 / (2 * P + 1)), 1e-12);  // the error term shrinks fast with P, round-off is ~1e-16
 }
 
 TEST_P(LegendreGaussOrder, OmegaIntegratesPolynomialsOfDegreePMinus1) {

@@ -117,9 +117,16 @@ TEST(ProblemFile, PointMassDrop) {
   EXPECT_DOUBLE_EQ(p.cost.penalty_weight, 1.0);
   EXPECT_TRUE(p.inputs.empty());
   EXPECT_TRUE(p.bounds.empty());
-  EXPECT_TRUE(p.hints.empty());
+  // The seeding hint: on the ground at [impact_element, 0] = [9, 0] (0-based element 8).
+  ASSERT_EQ(p.hints.size(), 1u);
+  EXPECT_EQ(p.hints[0].quantity.kind, Quantity::Kind::Gap);
+  EXPECT_EQ(p.hints[0].element, 8);
+  EXPECT_EQ(p.hints[0].point, 0);
+  EXPECT_EQ(p.hints[0].lower, 0.0);
+  EXPECT_EQ(p.hints[0].upper, 0.0);
   EXPECT_TRUE(p.surface_steps.empty());
-  EXPECT_EQ(p.parameters, (std::map<std::string, double>{{"height", 0.1}, {"restitution", 0.0}}));
+  EXPECT_EQ(p.parameters,
+            (std::map<std::string, double>{{"height", 0.1}, {"impact_element", 9.0}, {"restitution", 0.0}}));
   EXPECT_EQ(p.ipopt_options.at("tol"), "1e-6");
 }
 

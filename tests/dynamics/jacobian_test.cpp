@@ -18,7 +18,7 @@ TEST(Jacobian, PointJacobianIsDerivativeOfPosition) {
     const Eigen::VectorXd q = testing::randomVector(rng, n);
     const double eps = 1e-6;
     Mat3X<double> J(3, n);
-    for (int b = 0; b < n; ++b) {
+    for (int b = 0; b < model.nbodies(); ++b) {
       const Eigen::Vector3d p = testing::randomVector(rng, 3);
       forwardKinematics(model, data, q);
       pointJacobian(model, data, b, p, J);
@@ -31,7 +31,7 @@ TEST(Jacobian, PointJacobianIsDerivativeOfPosition) {
         forwardKinematics(model, data, qm);
         const Eigen::Vector3d pm = pointPosition(data, b, p);
         EXPECT_LT((J.col(j) - (pp - pm) / (2 * eps)).norm(), 1e-8) << toString(base) << " body " << b << " coordinate " << j;
-        if (!model.isAncestor(j, b)) {
+        if (!model.isAncestor(model.coordinate_body[j], b)) {
           EXPECT_EQ(J.col(j).norm(), 0.0);
         }
       }
@@ -48,7 +48,7 @@ TEST(Jacobian, BodyJacobianGivesWorldSpatialVelocity) {
   forwardKinematics(model, data, q, v);
   Mat6X<double> J(6, n);
   Mat3X<double> Jp(3, n);
-  for (int b = 0; b < n; ++b) {
+  for (int b = 0; b < model.nbodies(); ++b) {
     bodyJacobianWorld(model, data, b, J);
     const Motion<double> vW = data.X_world[b].applyInverse(data.v[b]);
     EXPECT_LT((J * v - vW.vector()).norm(), 1e-12);
@@ -68,7 +68,7 @@ TEST(Jacobian, VelocityProductTermIsDerivativeOfJv) {
                         a = testing::randomVector(rng, n);
   const double eps = 1e-6;
   Mat3X<double> Jp(3, n), Jm(3, n), J(3, n);
-  for (int b = 0; b < n; ++b) {
+  for (int b = 0; b < model.nbodies(); ++b) {
     const Eigen::Vector3d p = testing::randomVector(rng, 3);
     forwardKinematics(model, data, Eigen::VectorXd(q + eps * v));
     pointJacobian(model, data, b, p, Jp);

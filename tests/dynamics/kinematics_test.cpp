@@ -20,7 +20,7 @@ TEST(Kinematics, FreeBaseMatchesEulerAngles) {
   Data<double> data(model);
   const Eigen::VectorXd q = testing::randomVector(rng, 6, 1.2);
   forwardKinematics(model, data, q);
-  const int root = model.nv() - 1;
+  const int root = model.nbodies() - 1;
   EXPECT_LT((bodyRotation(data, root) - testing::eulerRotation(q)).norm(), 1e-14);
   EXPECT_LT((bodyPosition(data, root) - q.head<3>()).norm(), 1e-14);
 }
@@ -34,7 +34,7 @@ TEST(Kinematics, PointVelocityAndAccelerationAreDerivatives) {
     const Eigen::VectorXd q = testing::randomVector(rng, n), v = testing::randomVector(rng, n),
                           a = testing::randomVector(rng, n);
     const double eps = 1e-6;
-    for (int b = 0; b < n; ++b) {
+    for (int b = 0; b < model.nbodies(); ++b) {
       const Eigen::Vector3d p = testing::randomVector(rng, 3);
       // v_P = d/dt p_P along q(t) = q + t v.
       forwardKinematics(model, data, Eigen::VectorXd(q + eps * v));

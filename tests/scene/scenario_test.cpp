@@ -217,8 +217,9 @@ TEST(Scenario, PainleveRod) {
   EXPECT_EQ(s.contacts[0].p_B, Eigen::Vector3d(l, 0, 0));
   EXPECT_EQ(s.contacts[0].directions, 2);
   EXPECT_DOUBLE_EQ(s.contacts[0].friction, mu);
-  // Uniform rod: I about the centre = m (2l)²/12 = m l²/3 across the rod, small along it.
-  const dynamics::RigidInertia<double>& I = s.model.inertia[2];
+  // Uniform rod (body 0, on the planar base joint): I about the centre = m (2l)²/12 = m l²/3
+  // across the rod, small along it.
+  const dynamics::RigidInertia<double>& I = s.model.inertia[0];
   EXPECT_DOUBLE_EQ(I.m, m);
   EXPECT_TRUE(I.h.isZero());
   EXPECT_NEAR(I.I(1, 1), m * l * l / 3, 1e-15);
@@ -235,7 +236,7 @@ TEST(Scenario, PainleveRodExpressionsFollowOverrides) {
   const Scene s = loadScene("painleve_rod", {{"half_length", 1.0}, {"angle", 0.7}, {"mass", 2.0}});
   EXPECT_NEAR(gap(s, 0, s.q0), 0.0, 1e-15);
   EXPECT_EQ(s.contacts[0].p_B, Eigen::Vector3d(1.0, 0, 0));
-  EXPECT_NEAR(s.model.inertia[2].I(1, 1), 2.0 * 4.0 / 12.0, 1e-15);
+  EXPECT_NEAR(s.model.inertia[0].I(1, 1), 2.0 * 4.0 / 12.0, 1e-15);
   EXPECT_DOUBLE_EQ(s.q0[2], 0.7);
 }
 
@@ -287,7 +288,7 @@ TEST(Scenario, FreeRigidBody) {
   EXPECT_NEAR(gap(s, 1, s.q0), 0.0, 1e-15);
   EXPECT_DOUBLE_EQ(s.duration, 2.0);
   // The centre of mass is kept: h = m c.
-  EXPECT_NEAR((s.model.inertia[5].h - Eigen::Vector3d(0, 0, 0.03)).norm(), 0, 1e-15);
+  EXPECT_NEAR((s.model.inertia[0].h - Eigen::Vector3d(0, 0, 0.03)).norm(), 0, 1e-15);
   // Overriding a parameter changes the ones computed from it.
   const Scene t = loadScene(kDataDir + "free_rigid_body.yaml", {{"a", 0.3}});
   EXPECT_DOUBLE_EQ(t.parameters.at("b"), 0.6);

@@ -60,7 +60,7 @@ State randomState(std::mt19937& rng, const Model<double>& model) {
   const int n = model.nv();
   State s{uniform(rng, n, -M_PI, M_PI), uniform(rng, n, -2, 2), uniform(rng, n, -5, 5)};
   for (int i = 0; i < n; ++i)
-    if (model.joint_type[i] == JointType::Prismatic) s.q[i] /= M_PI;
+    if (model.isTranslation(i)) s.q[i] /= M_PI;
   if (model.base == BaseType::Free) s.q[4] = std::uniform_real_distribution<double>(-1.2, 1.2)(rng);
   return s;
 }
@@ -249,7 +249,7 @@ TEST(BulletDynamics, ComPositionsAgree) {
       bullet.forwardDynamics(s.q, s.v, s.tau);
       Data<double> data(model);
       forwardKinematics(model, data, s.q);
-      for (int i = model.n_base == 6 ? 5 : 0; i < model.nv(); ++i) {
+      for (int i = 0; i < model.nbodies(); ++i) {
         const auto& X = data.X_world[i];
         const Eigen::Vector3d c = X.r + X.E.transpose() * (model.inertia[i].h / model.inertia[i].m);
         EXPECT_LT((bullet.comPosition(i) - c).norm(), 1e-12) << "body " << model.body_name[i];
@@ -287,8 +287,10 @@ TEST(BulletDynamics, RandomUrdfMatchesBuilder) {
     const Model<double> b = robot.builder.build(BaseType::Fixed);
     ASSERT_EQ(a.nv(), b.nv());
     for (int i = 0; i < a.nv(); ++i) {
-      const int j = b.coordinateIndex(a.coordinate_name[i]);
-      ASSERT_GE(j, 0) << a.coordinate_name[i];
+      const int jc = b.coordinateIndex(a.coordinate_name[i]);
+      ASSERT_GE(jc, 0) << a.coordinate_name[i];
+      const int j = b.coordinate_body[jc];  // bodies of the coordinates (a fixed base: the same indices)
+      ASSERT_EQ(a.coordinate_body[i], i);
       const int pa = a.parent[i], pb = b.parent[j];
       EXPECT_EQ(pa < 0 ? "" : a.coordinate_name[pa], pb < 0 ? "" : b.coordinate_name[pb]);
       EXPECT_EQ(a.joint_type[i], b.joint_type[j]);
@@ -310,7 +312,7 @@ TEST(BulletDynamics, ModelPerturbationIsDetected) {
   const Model<double> model = loadUrdfString(robot.urdf);
   const State s = randomState(rng, model);
   Model<double> heavier = model;
-  const int i = model.nv() - 1;
+  const int i = model.nbodies() - 1;
   const double f = 1 + 1e-6;
   heavier.inertia[i] = {model.inertia[i].m * f, model.inertia[i].h * f, model.inertia[i].I * f};
   BulletMultiBody bullet_heavier(heavier);

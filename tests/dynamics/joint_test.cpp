@@ -1,0 +1,127 @@
+// The multi-coordinate base joints (Planar, Free) against the same mechanism built from
+// one-coordinate joints through massless links (the builder accepts massless intermediate
+// links): every algorithm gives the same results to round-off, coordinate by coordinate.
+#include "dynamics/joint.hpp"
+
+#include <gtest/gtest.h>
+
+#include "dynamics/aba.hpp"
+#include "dynamics/crba.hpp"
+#include "dynamics/derivatives.hpp"
+#include "dynamics/energy.hpp"
+#include "dynamics/jacobian.hpp"
+#include "dynamics/kinematics.hpp"
+#include "dynamics/rnea.hpp"
+#include "tests/support/random_model.hpp"
+
+namespace saltus::dynamics {
+namespace {
+
+// The random tree of randomTreeBuilder(rng, n) hung from the world through the base's
+// one-coordinate joints (prismatic x, y, z, revolute z, y, x for Free; prismatic x, z, revolute y
+// for Planar), as a fixed-base model.
+Model<double> explicitChain(ModelBuilder b, BaseType base) {
+  b.addLink("world");
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  struct Axis {
+    const char* name;
+    LinkJointType type;
+    Eigen::Vector3d axis;
+  };
+  std::vector<Axis> axes;
+  if (base == BaseType::Free)
+    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_y", LinkJointType::Prismatic, ey},
+            {"base_z", LinkJointType::Prismatic, ez}, {"base_yaw", LinkJointType::Continuous, ez},
+            {"base_pitch", LinkJointType::Continuous, ey}, {"base_roll", LinkJointType::Continuous, ex}};
+  else
+    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_z", LinkJointType::Prismatic, ez},
+            {"base_theta", LinkJointType::Continuous, ey}};
+  std::string parent = "world";
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const bool last = k + 1 == axes.size();
+    const std::string child = last ? "link0" : std::string("v_") + axes[k].name;
+    if (!last) b.addLink(child);
+    JointSpec j;
+    j.name = axes[k].name;
+    j.type = axes[k].type;
+    j.parent = parent;
+    j.child = child;
+    j.axis = axes[k].axis;
+    b.addJoint(j);
+    parent = child;
+  }
+  return b.build(BaseType::Fixed);
+}
+
+void expectNear(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double tol, const std::string& what) {
+  EXPECT_LT((a - b).norm(), tol * (1 + b.norm())) << what;
+}
+
+TEST(Joint, BaseJointEqualsChainOfOneCoordinateJoints) {
+  for (BaseType base : {BaseType::Planar, BaseType::Free}) {
+    for (int k = 0; k < 6; ++k) {
+      std::mt19937 rng(900 + k);
+      const ModelBuilder tree = testing::randomTreeBuilder(rng, 2 + 2 * k);
+      const Model<double> joint = tree.build(base);
+      const Model<double> chain = explicitChain(tree, base);
+      const int n = joint.nv();
+      ASSERT_EQ(chain.nv(), n);
+      ASSERT_EQ(joint.coordinate_name, chain.coordinate_name);
+      const int nb = joint.nbodies(), offset = chain.nbodies() - nb;  // the chain's massless links
+      ASSERT_EQ(offset, joint.n_base - 1);
+      EXPECT_EQ(joint.joint_type[0], base == BaseType::Free ? JointType::Free : JointType::Planar);
+      EXPECT_EQ(joint.num_coordinates[0], joint.n_base);
+      Data<double> dj(joint), dc(chain);
+      for (int trial = 0; trial < 3; ++trial) {
+        const Eigen::VectorXd q = testing::randomVector(rng, n, 1.2), v = testing::randomVector(rng, n, 2),
+                              a = testing::randomVector(rng, n, 2), tau = testing::randomVector(rng, n, 3);
+        const std::string what = std::string(toString(base)) + " seed " + std::to_string(900 + k);
+        expectNear(rnea(joint, dj, q, v, a), rnea(chain, dc, q, v, a), 1e-12, what + " rnea");
+        expectNear(nonLinearEffects(joint, dj, q, v), nonLinearEffects(chain, dc, q, v), 1e-12, what + " h");
+        expectNear(crba(joint, dj, q), crba(chain, dc, q), 1e-12, what + " crba");
+        expectNear(aba(joint, dj, q, v, tau), aba(chain, dc, q, v, tau), 1e-10, what + " aba");
+        forwardKinematics(joint, dj, q, v, a);
+        forwardKinematics(chain, dc, q, v, a);
+        for (int i = 0; i < nb; ++i) {
+          const int ic = i + offset;
+          EXPECT_LT((dj.X_world[i].E - dc.X_world[ic].E).norm(), 1e-13) << what;
+          EXPECT_LT((dj.X_world[i].r - dc.X_world[ic].r).norm(), 1e-13) << what;
+          EXPECT_LT((dj.v[i].vector() - dc.v[ic].vector()).norm(), 1e-12) << what;
+          EXPECT_LT((dj.a[i].vector() - dc.a[ic].vector()).norm(), 1e-12) << what;
+          EXPECT_LT((dj.a_bias[i].vector() - dc.a_bias[ic].vector()).norm(), 1e-12) << what;
+          Mat6X<double> Jj(6, n), Jc(6, n);
+          bodyJacobianWorld(joint, dj, i, Jj);
+          bodyJacobianWorld(chain, dc, ic, Jc);
+          expectNear(Jj, Jc, 1e-13, what + " body Jacobian");
+        }
+        EXPECT_NEAR(kineticEnergy(joint, dj), kineticEnergy(chain, dc), 1e-12);
+        EXPECT_NEAR(potentialEnergy(joint, dj), potentialEnergy(chain, dc), 1e-12);
+        EXPECT_LT((centerOfMass(joint, dj) - centerOfMass(chain, dc)).norm(), 1e-13);
+        DerivativeData<8> ddj(joint), ddc(chain);
+        rneaDerivatives(joint, ddj, q, v, a);
+        rneaDerivatives(chain, ddc, q, v, a);
+        expectNear(ddj.dtau_dq, ddc.dtau_dq, 1e-11, what + " dtau/dq");
+        expectNear(ddj.dtau_dv, ddc.dtau_dv, 1e-11, what + " dtau/dv");
+      }
+    }
+  }
+}
+
+TEST(Joint, TranslationCoordinates) {
+  std::mt19937 rng(5);
+  const ModelBuilder tree = testing::randomTreeBuilder(rng, 4);
+  const Model<double> free = tree.build(BaseType::Free), planar = tree.build(BaseType::Planar);
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(free.isTranslation(k), k < 3) << k;
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(planar.isTranslation(k), k < 2) << k;
+  for (int k = 6; k < free.nv(); ++k)
+    EXPECT_EQ(free.isTranslation(k), free.joint_type[free.coordinate_body[k]] == JointType::Prismatic);
+  // The coordinate tree: base coordinates in a chain, each joint after its parent body's last.
+  for (int k = 0; k < free.nv(); ++k) {
+    const int b = free.coordinate_body[k], p = free.parent[b];
+    const int expected = k > free.first_coordinate[b] ? k - 1 : p < 0 ? -1 : free.first_coordinate[p] + free.num_coordinates[p] - 1;
+    EXPECT_EQ(free.parent_coordinate[k], expected);
+  }
+}
+
+}  // namespace
+}  // namespace saltus::dynamics
