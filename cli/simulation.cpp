@@ -16,6 +16,7 @@
 
 #include "cli/common.hpp"
 #include "timestepper/scenario.hpp"
+#include "saltus/build_paths.hpp"
 
 extern char** environ;
 

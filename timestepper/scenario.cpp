@@ -18,6 +18,7 @@
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 
 namespace saltus::timestepper {
 

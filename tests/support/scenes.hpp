@@ -7,6 +7,7 @@
 #include "dynamics/builder.hpp"
 #include "dynamics/urdf.hpp"
 #include "timestepper/scene.hpp"
+#include "saltus/build_paths.hpp"
 
 namespace saltus::testing {
 
