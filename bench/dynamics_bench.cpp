@@ -12,6 +12,7 @@
 #include "dynamics/derivatives.hpp"
 #include "dynamics/dynamics.hpp"
 #include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 
 namespace {
 

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "cli/common.hpp"
+#include "saltus/build_paths.hpp"
 #include "scene/scenario.hpp"
 
 extern char** environ;

@@ -1,5 +1,7 @@
 #include "collocation/problem_file.hpp"
 
+#include "saltus/build_paths.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

@@ -15,6 +15,7 @@
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 
 namespace saltus::scene {
 

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Configures and builds Saltus: scripts/build.sh [release|asan] [TARGET...]
 #   release (default) -> build/       Release, -O3 -march=native
-#   asan              -> build-asan/  AddressSanitizer + UBSan, no benchmarks; -O1 with line tables
-#                                     and assertions on (half the compile time of -O3, file:line
-#                                     in sanitizer reports)
+#   asan              -> build-asan/  AddressSanitizer + UBSan, no benchmarks; libraries -O1, test
+#                                     programs and the saltus command -O0 (saltus_program in
+#                                     CMakeLists.txt), line tables (file:line in sanitizer
+#                                     reports) and assertions on
 # With TARGETs (e.g. saltus) only those are built; otherwise everything.
 set -euo pipefail
 
@@ -19,10 +20,24 @@ case "$mode" in
   *) echo "usage: scripts/build.sh [release|asan] [TARGET...]" >&2; exit 2 ;;
 esac
 
+# Ninja (scripts/packages.txt) starts compiling a program's files while the libraries it links are
+# still compiling, which Makefiles do not: both cores stay busy. A build directory keeps the
+# generator it was configured with (CMake refuses to switch), so an old Makefile build/ stays one.
+if [[ -f "$dir/CMakeCache.txt" ]]; then
+  :
+elif command -v ninja >/dev/null 2>&1; then
+  flags+=(-G Ninja)
+fi
+
 # ccache (scripts/packages.txt) keeps compiled objects between builds and clean clones on the same
-# machine; a first build on a new machine costs the same as without it.
+# machine; a first build on a new machine costs the same as without it. Paths under the checkout
+# are hashed relative to it (base_dir) and the build directory is left out of the hash (hash_dir),
+# so clones at different paths share hits; the absolute source path is only in the generated
+# saltus/build_paths.hpp, included by the few files that need it.
 if command -v ccache >/dev/null 2>&1; then
   flags+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
+  export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 fi
 
 echo "build: $mode -> ${dir#"$root"/}"

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/run_saltus.hpp"
+#include "saltus/build_paths.hpp"
 #include <nlohmann/json.hpp>
 
 namespace {

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "saltus/build_paths.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

@@ -15,6 +15,7 @@
 #include <console_bridge/console.h>
 
 #include "dynamics/dynamics.hpp"
+#include "saltus/build_paths.hpp"
 
 namespace saltus::dynamics {
 namespace {

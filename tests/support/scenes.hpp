@@ -6,6 +6,7 @@
 
 #include "dynamics/builder.hpp"
 #include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 #include "scene/scene.hpp"
 
 namespace saltus::testing {
