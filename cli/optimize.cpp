@@ -8,7 +8,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <unistd.h>
 
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
@@ -52,16 +51,6 @@ void remesh(Problem& p, int N, int P) {
   fix(p.hints);
   p.N = N;
   p.P = P;
-}
-
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f) throw std::runtime_error(path + ": cannot write");
-  }
-  fs::rename(tmp, path);
 }
 
 int optimize(const OptimizeOptions& opt) {

@@ -22,9 +22,9 @@ void gaussLegendre(int P, Eigen::VectorXd& x, Eigen::VectorXd& w) {
         p0 = p1;
         p1 = p2;
       }
-      const double pP = P == 0 ? 1 : p1, pPm1 = P == 1 ? 1 : p0;
-      dp = P * (z * pP - pPm1) / (z * z - 1);
-      const double dz = pP / dp;
+      // p1 = P_P(z), p0 = P_{P−1}(z); P_P' = P (z P_P − P_{P−1}) / (z² − 1).
+      dp = P * (z * p1 - p0) / (z * z - 1);
+      const double dz = p1 / dp;
       z -= dz;
       if (std::abs(dz) < 1e-16) break;
     }
@@ -34,7 +34,6 @@ void gaussLegendre(int P, Eigen::VectorXd& x, Eigen::VectorXd& w) {
 }
 
 LegendreGauss::LegendreGauss(int P_) : P(P_) {
-  Eigen::VectorXd x, w;
   gaussLegendre(P, x, w);
   tau = (x.array() + 1) / 2;
   b = basisIntegral(1.0);
@@ -55,8 +54,6 @@ Eigen::VectorXd LegendreGauss::basis(double s) const {
 
 Eigen::VectorXd LegendreGauss::basisIntegral(double s) const {
   // ℓ_j has degree P − 1: the P-point Gauss rule on [0, s] integrates it exactly.
-  Eigen::VectorXd x, w;
-  gaussLegendre(P, x, w);
   Eigen::VectorXd integral = Eigen::VectorXd::Zero(P);
   for (int m = 0; m < P; ++m) integral += (s / 2) * w[m] * basis(s * (x[m] + 1) / 2);
   return integral;

@@ -20,6 +20,7 @@ struct LegendreGauss {
   Eigen::VectorXd tau;    // roots in (0, 1), increasing
   Eigen::MatrixXd Omega;  // P × P, eq. (3)
   Eigen::VectorXd b;      // P quadrature weights on [0, 1], eq. (4); they sum to 1
+  Eigen::VectorXd x, w;   // the P-point Gauss–Legendre rule on [−1, 1] (tau = (x + 1) / 2)
 
   // Lagrange basis through the roots at s ∈ [0, 1]: ℓ_j(s), j = 0 … P − 1 (the polynomial of
   // degree P − 1 through the values at the collocation points, e.g. ẋ or an input).

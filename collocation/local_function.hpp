@@ -62,11 +62,8 @@ class AdFunction final : public LocalFunction {
       }
       f_(xd_.data(), yd_.data());
       const int cols = std::min(kChunk, n_ - first);
-      for (int r = 0; r < m_; ++r) {
-        const auto& d = yd_[r].derivatives();
-        const bool has = d.size() == kChunk;  // a result that never met a variable has no derivatives
-        for (int c = 0; c < cols; ++c) J[r + (first + c) * m_] = has ? d[c] : 0.0;
-      }
+      for (int r = 0; r < m_; ++r)
+        for (int c = 0; c < cols; ++c) J[r + (first + c) * m_] = yd_[r].derivatives()[c];
     }
   }
 
@@ -83,11 +80,8 @@ class AdFunction final : public LocalFunction {
         const int cols = std::min({kChunk, n_ - first, i + 1 - first});
         for (int c = 0; c < cols; ++c) {
           double s = 0;
-          for (int r = 0; r < m_; ++r) {
-            if (lambda[r] == 0.0 || y2_[r].derivatives().size() != 1) continue;
-            const auto& dd = y2_[r].derivatives()[0].derivatives();
-            if (dd.size() == kChunk) s += lambda[r] * dd[c];
-          }
+          for (int r = 0; r < m_; ++r)
+            if (lambda[r] != 0.0) s += lambda[r] * y2_[r].derivatives()[0].derivatives()[c];
           H[i + (first + c) * n_] = s;
         }
       }

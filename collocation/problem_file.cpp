@@ -504,13 +504,6 @@ void ProblemReader::read(const YAML::Node& root) {
   readIpopt(root["ipopt"]);
 }
 
-bool looksLikePath(const std::string& s) {
-  auto ends = [&](const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  return s.find('/') != std::string::npos || ends(".yaml") || ends(".yml");
-}
-
 }  // namespace
 
 std::string problemsDirectory() {
@@ -519,25 +512,11 @@ std::string problemsDirectory() {
 }
 
 std::vector<std::string> builtinProblemNames() {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(problemsDirectory(), ec))
-    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
+  return scene::yamlFileNames(problemsDirectory());
 }
 
 Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
-  std::string path = name_or_path, source = name_or_path;
-  if (!looksLikePath(name_or_path)) {
-    const std::vector<std::string> names = builtinProblemNames();
-    if (std::find(names.begin(), names.end(), name_or_path) == names.end())
-      throw scene::ScenarioError("unknown built-in problem '" + name_or_path + "'" + suggestion(name_or_path, names) +
-                                 "; built-in problems (" + problemsDirectory() + "): " + joinNames(names) +
-                                 "; or give the path of a problem file (.yaml)");
-    path = problemsDirectory() + "/" + name_or_path + ".yaml";
-    source = "builtin:" + name_or_path;
-  }
+  const auto [path, source] = scene::resolveYamlFile(name_or_path, problemsDirectory(), "problem", "problem file");
   const YAML::Node root = scene::loadYamlFile(path, "problem file");
   YamlReader reader(path, overrides);
   if (root.IsMap()) reader.readParameters(root);

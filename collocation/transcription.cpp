@@ -22,6 +22,7 @@ Transcription::Transcription(const Problem& problem, Method method)
   if (problem.P < 1) throw std::invalid_argument("P must be ≥ 1");
   models_ = std::make_unique<ModelSet>(model);
   buildContacts();
+  restitution_.resize(contacts_.size());
   if (method == Method::Continuous)
     for (const ContactPoint& c : contacts_)
       if (c.e > 0)
@@ -226,7 +227,11 @@ void Transcription::buildElementConstraints(int n) {
   // Equations of motion at the collocation points, and (6) at an impulsive [n, 0].
   const FrictionForm form = fo ? FrictionForm::Direct : FrictionForm::Activation;
   auto eom = [&](int p, bool with_dynamics) {
-    EquationOfMotion e{models_.get(), &contacts_, problem_.inputs, with_dynamics, form};
+    // One function per kind, shared by every point (its work arrays are sized once).
+    auto& f = eom_[with_dynamics ? 1 : 0];
+    if (!f)
+      f = std::make_shared<AdFunction<EquationOfMotion>>(
+          EquationOfMotion{models_.get(), &contacts_, problem_.inputs, with_dynamics, form});
     std::vector<int> vars = range(L.points[p].q, nv_);
     if (with_dynamics) {
       const auto v = range(L.points[p].v, nv_);
@@ -242,7 +247,7 @@ void Transcription::buildElementConstraints(int n) {
       vars.push_back(L.contacts[c].rn[p]);
       for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].t[p] + i);
     }
-    addBlock(std::make_shared<AdFunction<EquationOfMotion>>(e), vars, 0, 0,
+    addBlock(f, vars, 0, 0,
              (with_dynamics ? "eom" : "impulse") + at(n, p));
   };
   for (int p : L.collocation) eom(p, true);
@@ -275,8 +280,9 @@ void Transcription::buildContactConstraints(int n) {
       for (int v : range(prev.points[prev.end].v, nv_)) vars.push_back(v);
       vars.push_back(C.a_plus);
       vars.push_back(C.a_minus);
-      addBlock(std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]}),
-               vars, 0, 0, "restitution." + tag + at(n, 0));
+      if (!restitution_[c])
+        restitution_[c] = std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]});
+      addBlock(restitution_[c], vars, 0, 0, "restitution." + tag + at(n, 0));
       addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0], C.a_plus, C.a_minus}, Eigen::Vector3d::Ones(), 0,
                  "impact." + tag + at(n, 0));
       // a⁺ ⊥ a⁻, so that a⁺ + a⁻ = |ẏ[n,0] + e ẏ[n−1,P+1]|: without it the pair is free whenever

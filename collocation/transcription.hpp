@@ -130,6 +130,10 @@ class Transcription {
   int nv_ = 0, nu_ = 0;
   std::vector<ElementLayout> layout_;
   int x_max_ = -1;  // minimise-max variable
+  // Local functions shared by the blocks of every element: the equations of motion (impulsive,
+  // with dynamics) and each contact's restitution balance.
+  std::shared_ptr<const LocalFunction> eom_[2];
+  std::vector<std::shared_ptr<const LocalFunction>> restitution_;
 
   std::vector<std::string> x_names_, g_names_;
   Eigen::VectorXd x_lower_, x_upper_, x_lower_hint_, x_upper_hint_, g_lower_, g_upper_;

@@ -423,13 +423,6 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
   return scene;
 }
 
-bool looksLikePath(const std::string& s) {
-  auto ends = [&](const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  return s.find('/') != std::string::npos || ends(".yaml") || ends(".yml");
-}
-
 }  // namespace
 
 std::string scenesDirectory() {
@@ -438,25 +431,11 @@ std::string scenesDirectory() {
 }
 
 std::vector<std::string> builtinSceneNames() {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(scenesDirectory(), ec))
-    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
-  std::sort(names.begin(), names.end());
-  return names;
+  return yamlFileNames(scenesDirectory());
 }
 
 Scene loadScene(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
-  std::string path = name_or_path, source = name_or_path;
-  if (!looksLikePath(name_or_path)) {
-    const std::vector<std::string> names = builtinSceneNames();
-    if (std::find(names.begin(), names.end(), name_or_path) == names.end())
-      throw ScenarioError("unknown built-in scene '" + name_or_path + "'" + suggestion(name_or_path, names) +
-                          "; built-in scenes (" + scenesDirectory() + "): " + joinNames(names) +
-                          "; or give the path of a scenario file (.yaml)");
-    path = scenesDirectory() + "/" + name_or_path + ".yaml";
-    source = "builtin:" + name_or_path;
-  }
+  const auto [path, source] = resolveYamlFile(name_or_path, scenesDirectory(), "scene", "scenario file");
   const YAML::Node root = loadYamlFile(path);
   YamlReader reader(path, overrides);
   if (root.IsMap()) reader.readParameters(root);

@@ -142,6 +142,30 @@ YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   }
 }
 
+std::vector<std::string> yamlFileNames(const std::string& directory) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, ec))
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+YamlSource resolveYamlFile(const std::string& name_or_path, const std::string& directory, const std::string& kind,
+                           const std::string& file_kind) {
+  auto ends = [&](const std::string& suffix) {
+    return name_or_path.size() >= suffix.size() &&
+           name_or_path.compare(name_or_path.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (name_or_path.find('/') != std::string::npos || ends(".yaml") || ends(".yml")) return {name_or_path, name_or_path};
+  const std::vector<std::string> names = yamlFileNames(directory);
+  if (std::find(names.begin(), names.end(), name_or_path) == names.end())
+    throw ScenarioError("unknown built-in " + kind + " '" + name_or_path + "'" + suggestion(name_or_path, names) +
+                        "; built-in " + kind + "s (" + directory + "): " + joinNames(names) + "; or give the path of a " +
+                        file_kind + " (.yaml)");
+  return {directory + "/" + name_or_path + ".yaml", "builtin:" + name_or_path};
+}
+
 YamlReader::YamlReader(std::string file, std::map<std::string, double> overrides)
     : file_(std::move(file)), overrides_(std::move(overrides)) {
   setupParser(parser_);

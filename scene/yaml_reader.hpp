@@ -37,6 +37,17 @@ std::string suggestion(const std::string& word, const std::vector<std::string>& 
 // (and the line of the syntax error).
 YAML::Node loadYamlFile(const std::string& path, const std::string& what = "scenario file");
 
+// Built-in files: a name stands for <directory>/<name>.yaml; anything containing '/' or ending in
+// .yaml/.yml is a path. `kind` names them in messages ("scene", "problem"), `file_kind` names a
+// file ("scenario file"). An unknown name is a ScenarioError listing the built-ins.
+struct YamlSource {
+  std::string path;
+  std::string source;  // "builtin:<name>", or the path as given
+};
+std::vector<std::string> yamlFileNames(const std::string& directory);  // stems of the .yaml files, sorted
+YamlSource resolveYamlFile(const std::string& name_or_path, const std::string& directory, const std::string& kind,
+                           const std::string& file_kind);
+
 // Parses `--set` assignments "name=value"; value is a number or a constant expression (pi/4).
 // A later assignment to the same name wins. Throws ScenarioError naming the bad item.
 std::map<std::string, double> parseOverrides(const std::vector<std::string>& assignments);

@@ -18,7 +18,9 @@ TEST_P(LegendreGaussOrder, QuadratureIsExactToDegree2PMinus1) {
   for (int p = 0; p < P; ++p) {
     EXPECT_GT(lg.tau[p], 0.0);
     EXPECT_LT(lg.tau[p], 1.0);
-    if (p > 0) EXPECT_GT(lg.tau[p], lg.tau[p - 1]);
+    if (p > 0) {
+      EXPECT_GT(lg.tau[p], lg.tau[p - 1]);
+    }
   }
   for (int k = 0; k <= 2 * P - 1; ++k) {
     double sum = 0;

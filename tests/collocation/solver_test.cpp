@@ -9,8 +9,8 @@
 
 #include "collocation/problem_file.hpp"
 #include "collocation/solution.hpp"
-#include "dynamics/aba.hpp"
 #include "tests/support/pendulum.hpp"
+#include "tests/support/rk4.hpp"
 
 namespace saltus::collocation {
 namespace {
@@ -96,7 +96,9 @@ TEST(Solver, PendulumConveyorImpactWithoutCollision) {
       EXPECT_LE(std::abs(c.pt[0]), mu * c.pn + 1e-6);
       impulse = true;
     }
-    if (r.element >= 5) EXPECT_NEAR(c.vt[0], 0.0, 2e-3) << "the tip slips on the belt at t = " << r.t;
+    if (r.element >= 5) {
+      EXPECT_NEAR(c.vt[0], 0.0, 2e-3) << "the tip slips on the belt at t = " << r.t;
+    }
   }
   EXPECT_TRUE(impulse);
 }
@@ -106,22 +108,8 @@ TEST(Solver, PendulumConveyorImpactWithoutCollision) {
 TEST(Solver, GaussCollocationConvergenceOrder) {
   const dynamics::Model<double> model = testing::pendulumModel({1.0}, {0.5});
   const double T = 0.6, q0 = 1.0;
-  // Reference: RK4 with a small step.
-  dynamics::Data<double> data(model);
-  Eigen::VectorXd q = Eigen::VectorXd::Constant(1, q0), v = Eigen::VectorXd::Zero(1), tau = Eigen::VectorXd::Zero(1);
-  auto acc = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv) {
-    return Eigen::VectorXd(dynamics::aba(model, data, qq, vv, tau));
-  };
-  const int steps = 20000;
-  const double dt = T / steps;
-  for (int i = 0; i < steps; ++i) {
-    const Eigen::VectorXd k1q = v, k1v = acc(q, v);
-    const Eigen::VectorXd k2q = v + dt / 2 * k1v, k2v = acc(q + dt / 2 * k1q, v + dt / 2 * k1v);
-    const Eigen::VectorXd k3q = v + dt / 2 * k2v, k3v = acc(q + dt / 2 * k2q, v + dt / 2 * k2v);
-    const Eigen::VectorXd k4q = v + dt * k3v, k4v = acc(q + dt * k3q, v + dt * k3v);
-    q += dt / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
-    v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
+  const auto [q, v] = testing::rk4Reference(model, Eigen::VectorXd::Constant(1, q0), Eigen::VectorXd::Zero(1),
+                                            Eigen::VectorXd::Zero(1), T, 20000);
   for (int P : {1, 2}) {
     std::vector<double> errors;
     for (int N : {4, 8, 16}) {

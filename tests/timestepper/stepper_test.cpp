@@ -9,6 +9,7 @@
 #include "dynamics/aba.hpp"
 #include "tests/support/heap_counter.hpp"
 #include "tests/support/pendulum.hpp"
+#include "tests/support/rk4.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace saltus::timestepper {
@@ -192,21 +193,7 @@ TEST(Stepper, ConvergenceOrderOnASmoothPhase) {
   scene.q0 = Eigen::Vector2d(0.8, -0.4);
   const double T = 0.5;
   // Reference: RK4 on (q, v) with q̈ = ABA(q, v, 0).
-  dynamics::Data<double> data(scene.model);
-  Eigen::VectorXd q = scene.q0, v = scene.v0;
-  const int n_ref = 20000;
-  const double h = T / n_ref;
-  auto acc = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv) {
-    return Eigen::VectorXd(dynamics::aba(scene.model, data, qq, vv, Eigen::VectorXd::Zero(2)));
-  };
-  for (int i = 0; i < n_ref; ++i) {
-    const Eigen::VectorXd k1q = v, k1v = acc(q, v);
-    const Eigen::VectorXd k2q = v + h / 2 * k1v, k2v = acc(q + h / 2 * k1q, v + h / 2 * k1v);
-    const Eigen::VectorXd k3q = v + h / 2 * k2v, k3v = acc(q + h / 2 * k2q, v + h / 2 * k2v);
-    const Eigen::VectorXd k4q = v + h * k3v, k4v = acc(q + h * k3q, v + h * k3v);
-    q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
-    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
+  const auto [q, v] = testing::rk4Reference(scene.model, scene.q0, scene.v0, Eigen::VectorXd::Zero(2), T, 20000);
   for (double theta : {1.0, 0.5}) {
     std::vector<double> errors;
     for (int n : {250, 500, 1000}) {
