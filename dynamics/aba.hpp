@@ -132,9 +132,46 @@ template <class S>
   solveUpper(data.D_chol[i], nc, x);
   return ap + multiJointVelocity(model, i, &data.S_joint[k], x);
 }
+
+// Pass 3 for a free joint from the world (RBDA 7.46, 7.47 with a square, invertible S): the
+// joint force f_J = S⁻ᵀ τ balances the root's articulated body, f_J = I^A a + p^A, so
+// a = (I^A)⁻¹ (f_J − p^A) and q̈ = S⁻¹ (a − a'). Both S solves are closed form: the translation
+// columns (0; s_k) are orthonormal, and the Euler columns s_ψ = (−sθ, cθ sφ, cθ cφ),
+// s_θ = (0, cφ, −sφ), s_φ = x invert directly. Pass 2 has nothing to do for this joint.
+template <class S>
+[[gnu::noinline]] Motion<S> abaFreeRoot(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& tau,
+                                        const Motion<S>& ap) {
+  const int k = model.first_coordinate[i];
+  const Motion<S>* Scol = &data.S_joint[k];
+  const S* t = tau.data() + k;
+  const S cr = Scol[4].w[1], sr = -Scol[4].w[2], sp = -Scol[3].w[0];
+  const S cp = Scol[3].w[1] * sr + Scol[3].w[2] * cr;
+  // f_J = S⁻ᵀ τ.
+  const S A = (t[3] + sp * t[5]) / cp;
+  Vec6<S> rhs;
+  rhs << t[5], sr * A + cr * t[4], cr * A - sr * t[4],
+         Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+  rhs -= data.pA[i].vector();
+  // a = (I^A)⁻¹ (f_J − p^A), by Cholesky.
+  Mat6<S>& L = data.D_chol[i];
+  L = data.IA[i];
+  choleskyInPlace(L, 6);
+  solveLower(L, 6, rhs.data());
+  solveUpper(L, 6, rhs.data());
+  const Motion<S> a = Motion<S>::FromVector(rhs);
+  // q̈ = S⁻¹ (a − a').
+  const Motion<S> d = a - ap;
+  S* x = data.qdd.data() + k;
+  for (int c = 0; c < 3; ++c) x[c] = Scol[c].v.dot(d.v);
+  x[3] = (sr * d.w[1] + cr * d.w[2]) / cp;
+  x[4] = cr * d.w[1] - sr * d.w[2];
+  x[5] = d.w[0] + sp * x[3];
+  return a;
+}
 }  // namespace detail
 
-// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints).
+// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints; for a
+// free joint from the world D_chol holds the Cholesky factor of I^A and U, D, u are not set).
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
@@ -176,7 +213,7 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
         data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
         data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
       }
-    } else {
+    } else if (!(p < 0 && model.joint_type[i] == JointType::Free)) {  // a free root: pass 3 only
       detail::abaMultiJointInward(model, data, i, tau);
     }
   }
@@ -188,6 +225,8 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
     if (model.num_coordinates[i] == 1) {
       data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
       data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
+    } else if (p < 0 && model.joint_type[i] == JointType::Free) {
+      data.a_gf[i] = detail::abaFreeRoot(model, data, i, tau, ap);
     } else {
       data.a_gf[i] = detail::abaMultiJointOutward(model, data, i, ap);
     }
