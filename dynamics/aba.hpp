@@ -170,66 +170,79 @@ template <class S>
 }
 }  // namespace detail
 
+namespace detail {
+// Pass 1 for body 0's multi-coordinate joint from the world, out of line (see above).
+template <class S>
+[[gnu::noinline]] void abaMultiJointOutwardVelocity(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
+                                                   const VecRef<S>& v) {
+  updateJointTransform(model, data, 0, q);
+  data.v[0] = jointVelocity(model, data, 0, v, &data.c[0]);  // v = v_J, c = c_J
+  const RigidInertia<S>& I = model.inertia[0];
+  data.IA[0] = I.matrix();
+  data.pA[0] = data.v[0].crossForce(I * data.v[0]);
+}
+}  // namespace detail
+
 // Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints; for a
 // free joint from the world D_chol holds the Cholesky factor of I^A and U, D, u are not set).
+// A multi-coordinate joint can only be body 0's (model.hpp): it is handled before (passes 1, 3)
+// or after (pass 2) the loops over the one-coordinate joints, out of line.
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
   const int nb = model.nbodies();
+  const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
+  const int off = model.nv() - nb;                                // its coordinate k = i + off
   // Pass 1: velocities, velocity-product accelerations c_i = c_J + v_i × v_J, bias forces p_i
   // (RBDA 7.1, 7.2).
-  for (int i = 0; i < nb; ++i) {
-    const int p = model.parent[i];
-    updateJointTransform(model, data, i, q);
-    Motion<S> cJ;
-    const Motion<S> vJ = jointVelocity(model, data, i, v, &cJ);
+  if (b) detail::abaMultiJointOutwardVelocity(model, data, q, v);
+  for (int i = b; i < nb; ++i) {
+    const int p = model.parent[i], k = i + off;
+    data.X_up[i] = jointTransformUp(model, i, q[k]);
+    const Motion<S> vJ = jointVelocity(model, i, v[k]);
     if (p < 0) {
       data.v[i] = vJ;
-      data.c[i] = cJ;
+      data.c[i] = Motion<S>::Zero();
     } else {
       data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
-      data.c[i] = model.num_coordinates[i] == 1 ? data.v[i].cross(vJ) : cJ + data.v[i].cross(vJ);
+      data.c[i] = data.v[i].cross(vJ);
     }
     const RigidInertia<S>& I = model.inertia[i];
     data.IA[i] = I.matrix();
     data.pA[i] = data.v[i].crossForce(I * data.v[i]);
   }
   // Pass 2: articulated inertias and bias forces, leaves to root.
-  for (int i = nb - 1; i >= 0; --i) {
+  for (int i = nb - 1; i >= b; --i) {
     const Mat6<S>& IA = data.IA[i];
-    const int p = model.parent[i], k = model.first_coordinate[i];
-    if (model.num_coordinates[i] == 1) {
-      Vec6<S>& U = data.U[k];
-      const Vec3<S>& ax = model.axis[i];
-      U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
-                                                     : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
-      const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
-                                                                        : Vec3<S>(U.template tail<3>());
-      data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
-      data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
-      if (p >= 0) {
-        const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
-        const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
-        data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
-        data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
-      }
-    } else if (!(p < 0 && model.joint_type[i] == JointType::Free)) {  // a free root: pass 3 only
-      detail::abaMultiJointInward(model, data, i, tau);
+    const int p = model.parent[i], k = i + off;
+    Vec6<S>& U = data.U[k];
+    const Vec3<S>& ax = model.axis[i];
+    U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
+                                                   : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
+    const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
+                                                                      : Vec3<S>(U.template tail<3>());
+    data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
+    data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
+    if (p >= 0) {
+      const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
+      const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
+      data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
+      data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
     }
   }
+  const bool free_root = b && model.joint_type[0] == JointType::Free;
+  if (b && !free_root) detail::abaMultiJointInward(model, data, 0, tau);  // a free root: pass 3 only
   // Pass 3: accelerations, root to leaves (RBDA 7.46, 7.47).
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};
-  for (int i = 0; i < nb; ++i) {
-    const int p = model.parent[i], k = model.first_coordinate[i];
+  if (b) {
+    const Motion<S> ap = data.X_up[0].apply(a0) + data.c[0];
+    data.a_gf[0] = free_root ? detail::abaFreeRoot(model, data, 0, tau, ap) : detail::abaMultiJointOutward(model, data, 0, ap);
+  }
+  for (int i = b; i < nb; ++i) {
+    const int p = model.parent[i], k = i + off;
     const Motion<S> ap = data.X_up[i].apply(p < 0 ? a0 : data.a_gf[p]) + data.c[i];
-    if (model.num_coordinates[i] == 1) {
-      data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
-      data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
-    } else if (p < 0 && model.joint_type[i] == JointType::Free) {
-      data.a_gf[i] = detail::abaFreeRoot(model, data, i, tau, ap);
-    } else {
-      data.a_gf[i] = detail::abaMultiJointOutward(model, data, i, ap);
-    }
+    data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
+    data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
   }
   return data.qdd;
 }
