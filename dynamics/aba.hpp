@@ -132,65 +132,117 @@ template <class S>
   solveUpper(data.D_chol[i], nc, x);
   return ap + multiJointVelocity(model, i, &data.S_joint[k], x);
 }
+
+// Pass 3 for a free joint from the world (RBDA 7.46, 7.47 with a square, invertible S): the
+// joint force f_J = S⁻ᵀ τ balances the root's articulated body, f_J = I^A a + p^A, so
+// a = (I^A)⁻¹ (f_J − p^A) and q̈ = S⁻¹ (a − a'). Both S solves are closed form: the translation
+// columns (0; s_k) are orthonormal, and the Euler columns s_ψ = (−sθ, cθ sφ, cθ cφ),
+// s_θ = (0, cφ, −sφ), s_φ = x invert directly. Pass 2 has nothing to do for this joint.
+template <class S>
+[[gnu::noinline]] Motion<S> abaFreeRoot(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& tau,
+                                        const Motion<S>& ap) {
+  const int k = model.first_coordinate[i];
+  const Motion<S>* Scol = &data.S_joint[k];
+  const S* t = tau.data() + k;
+  const S cr = Scol[4].w[1], sr = -Scol[4].w[2], sp = -Scol[3].w[0];
+  const S cp = Scol[3].w[1] * sr + Scol[3].w[2] * cr;
+  // f_J = S⁻ᵀ τ.
+  const S A = (t[3] + sp * t[5]) / cp;
+  Vec6<S> rhs;
+  rhs << t[5], sr * A + cr * t[4], cr * A - sr * t[4],
+         Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+  rhs -= data.pA[i].vector();
+  // a = (I^A)⁻¹ (f_J − p^A), by Cholesky.
+  Mat6<S>& L = data.D_chol[i];
+  L = data.IA[i];
+  choleskyInPlace(L, 6);
+  solveLower(L, 6, rhs.data());
+  solveUpper(L, 6, rhs.data());
+  const Motion<S> a = Motion<S>::FromVector(rhs);
+  // q̈ = S⁻¹ (a − a').
+  const Motion<S> d = a - ap;
+  S* x = data.qdd.data() + k;
+  for (int c = 0; c < 3; ++c) x[c] = Scol[c].v.dot(d.v);
+  x[3] = (sr * d.w[1] + cr * d.w[2]) / cp;
+  x[4] = cr * d.w[1] - sr * d.w[2];
+  x[5] = d.w[0] + sp * x[3];
+  return a;
+}
 }  // namespace detail
 
-// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints).
+namespace detail {
+// Pass 1 for body 0's multi-coordinate joint from the world, out of line (see above).
+template <class S>
+[[gnu::noinline]] void abaMultiJointOutwardVelocity(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
+                                                   const VecRef<S>& v) {
+  updateJointTransform(model, data, 0, q);
+  data.v[0] = jointVelocity(model, data, 0, v, &data.c[0]);  // v = v_J, c = c_J
+  const RigidInertia<S>& I = model.inertia[0];
+  data.IA[0] = I.matrix();
+  data.pA[0] = data.v[0].crossForce(I * data.v[0]);
+}
+}  // namespace detail
+
+// Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints; for a
+// free joint from the world D_chol holds the Cholesky factor of I^A and U, D, u are not set).
+// A multi-coordinate joint can only be body 0's (model.hpp): it is handled before (passes 1, 3)
+// or after (pass 2) the loops over the one-coordinate joints, out of line.
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
   const int nb = model.nbodies();
+  const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
+  const int off = model.nv() - nb;                                // its coordinate k = i + off
   // Pass 1: velocities, velocity-product accelerations c_i = c_J + v_i × v_J, bias forces p_i
   // (RBDA 7.1, 7.2).
-  for (int i = 0; i < nb; ++i) {
-    const int p = model.parent[i];
-    updateJointTransform(model, data, i, q);
-    Motion<S> cJ;
-    const Motion<S> vJ = jointVelocity(model, data, i, v, &cJ);
+  if (b) detail::abaMultiJointOutwardVelocity(model, data, q, v);
+  for (int i = b; i < nb; ++i) {
+    const int p = model.parent[i], k = i + off;
+    data.X_up[i] = jointTransformUp(model, i, q[k]);
+    const Motion<S> vJ = jointVelocity(model, i, v[k]);
     if (p < 0) {
       data.v[i] = vJ;
-      data.c[i] = cJ;
+      data.c[i] = Motion<S>::Zero();
     } else {
       data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
-      data.c[i] = model.num_coordinates[i] == 1 ? data.v[i].cross(vJ) : cJ + data.v[i].cross(vJ);
+      data.c[i] = data.v[i].cross(vJ);
     }
     const RigidInertia<S>& I = model.inertia[i];
     data.IA[i] = I.matrix();
     data.pA[i] = data.v[i].crossForce(I * data.v[i]);
   }
   // Pass 2: articulated inertias and bias forces, leaves to root.
-  for (int i = nb - 1; i >= 0; --i) {
+  for (int i = nb - 1; i >= b; --i) {
     const Mat6<S>& IA = data.IA[i];
-    const int p = model.parent[i], k = model.first_coordinate[i];
-    if (model.num_coordinates[i] == 1) {
-      Vec6<S>& U = data.U[k];
-      const Vec3<S>& ax = model.axis[i];
-      U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
-                                                     : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
-      const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
-                                                                        : Vec3<S>(U.template tail<3>());
-      data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
-      data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
-      if (p >= 0) {
-        const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
-        const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
-        data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
-        data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
-      }
-    } else {
-      detail::abaMultiJointInward(model, data, i, tau);
+    const int p = model.parent[i], k = i + off;
+    Vec6<S>& U = data.U[k];
+    const Vec3<S>& ax = model.axis[i];
+    U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
+                                                   : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
+    const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
+                                                                      : Vec3<S>(U.template tail<3>());
+    data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
+    data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
+    if (p >= 0) {
+      const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
+      const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
+      data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
+      data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
     }
   }
+  const bool free_root = b && model.joint_type[0] == JointType::Free;
+  if (b && !free_root) detail::abaMultiJointInward(model, data, 0, tau);  // a free root: pass 3 only
   // Pass 3: accelerations, root to leaves (RBDA 7.46, 7.47).
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};
-  for (int i = 0; i < nb; ++i) {
-    const int p = model.parent[i], k = model.first_coordinate[i];
+  if (b) {
+    const Motion<S> ap = data.X_up[0].apply(a0) + data.c[0];
+    data.a_gf[0] = free_root ? detail::abaFreeRoot(model, data, 0, tau, ap) : detail::abaMultiJointOutward(model, data, 0, ap);
+  }
+  for (int i = b; i < nb; ++i) {
+    const int p = model.parent[i], k = i + off;
     const Motion<S> ap = data.X_up[i].apply(p < 0 ? a0 : data.a_gf[p]) + data.c[i];
-    if (model.num_coordinates[i] == 1) {
-      data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
-      data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
-    } else {
-      data.a_gf[i] = detail::abaMultiJointOutward(model, data, i, ap);
-    }
+    data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
+    data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
   }
   return data.qdd;
 }

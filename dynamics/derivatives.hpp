@@ -39,7 +39,34 @@ struct DerivativeData {
     for (int i = 0; i < model.nbodies(); ++i) subtree_end[i] = i + 1;
     for (int i = model.nbodies() - 1; i >= 0; --i)
       if (model.parent[i] >= 0) subtree_end[model.parent[i]] = std::max(subtree_end[model.parent[i]], subtree_end[i]);
+    // The directions of rneaDerivatives in coordinate order, q_k then q̇_k, N to a chunk. The base
+    // translation coordinates (x, y, z of a free base; x, z of a planar one) have none: RNEA does
+    // not depend on where the robot is (uniform gravity) nor, by Galilean invariance, on the
+    // world velocity ṗ of the base origin (ṗ drops out of every classical acceleration), so
+    // those columns of ∂τ/∂q and ∂τ/∂q̇ are zero.
+    const bool floating = model.nbodies() > 0 && model.parent[0] < 0 &&
+                          (model.joint_type[0] == JointType::Free || model.joint_type[0] == JointType::Planar);
+    const int invariant = floating ? (model.joint_type[0] == JointType::Free ? 3 : 2) : 0;
+    Chunk chunk;
+    auto add = [&](int k, bool velocity) {
+      chunk.coordinate[chunk.size] = k;
+      chunk.velocity[chunk.size] = velocity;
+      if (++chunk.size == N) chunks.push_back(chunk), chunk = Chunk{};
+    };
+    for (int k = invariant; k < model.nv(); ++k) {
+      add(k, false);
+      add(k, true);
+    }
+    if (chunk.size > 0) chunks.push_back(chunk);
   }
+
+  // A chunk of rneaDerivatives: directions (coordinate, q or q̇), consecutive in coordinate order.
+  struct Chunk {
+    int size = 0;
+    int coordinate[N] = {};
+    bool velocity[N] = {};
+  };
+  std::vector<Chunk> chunks;
 
   Model<Dual<N>> model_dual;
   Data<Dual<N>> data_dual;
@@ -134,19 +161,16 @@ SALTUS_INLINE Eigen::Matrix<double, 1, N> jointForceDerivative(const Model<doubl
 // dd.data.M (CRBA: RNEA is linear in q̈).
 //
 // A direction q_j or q̇_j changes the outward recursion only in the subtree of j's body and the
-// inward one only there and along its ancestors. Each chunk takes N/2 consecutive coordinates
-// with both of their directions, runs the outward and inward steps in dual numbers over the
-// bodies the chunk reaches, and carries the derivative of the force transmitted to the
-// ancestors as a plain 6 × N matrix; everything else keeps the values of one double RNEA pass.
+// inward one only there and along its ancestors. Each chunk takes N consecutive directions
+// (dd.chunks), runs the outward and inward steps in dual numbers over the bodies the chunk
+// reaches, and carries the derivative of the force transmitted to the ancestors as a plain
+// 6 × N matrix; everything else keeps the values of one double RNEA pass.
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
-  static_assert(N % 2 == 0, "a chunk holds (q_j, q̇_j) pairs");
   using D = Dual<N>;
   using DerN = Eigen::Matrix<double, 3, N>;
   using RowN = Eigen::Matrix<double, 1, N>;
-  constexpr int K = N / 2;
-  const int n = model.nv();
   Data<double>& dat = dd.data;
   Data<D>& dual = dd.data_dual;
   const Model<D>& mdual = dd.model_dual;
@@ -155,11 +179,11 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
   dd.dtau_dv.setZero();
   const Motion<double> a0{Vec3<double>::Zero(), -model.gravity};
   auto promote = [](const Motion<double>& m) { return Motion<D>{m.w.template cast<D>(), m.v.template cast<D>()}; };
-  for (int first = 0; first < n; first += K) {
-    const int last = std::min(first + K, n);
+  for (const auto& chunk : dd.chunks) {
     // Bodies [b0, b1] hold the chunk's coordinates; the active bodies are those and their
     // subtrees, [b0, end) less the bodies below an ancestor of b0 (their derivatives are zero).
-    const int b0 = model.coordinate_body[first], b1 = model.coordinate_body[last - 1];
+    const int b0 = model.coordinate_body[chunk.coordinate[0]];
+    const int b1 = model.coordinate_body[chunk.coordinate[chunk.size - 1]];
     int end = b1 + 1;
     for (int b = b0; b <= b1; ++b) end = std::max(end, dd.subtree_end[b]);
     // Outward over the active bodies (RBDA 5.7–5.9 in dual numbers).
@@ -175,13 +199,12 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
         // A body holding seeded coordinates: its joint transform is dual (model_dual's jcalc).
         D qi[6], qdi[6];
         for (int c = 0; c < nc; ++c) {
-          const int k = k0 + c;
-          qi[c] = D(q[k]);
-          qdi[c] = D(v[k]);
-          if (k >= first && k < last) {
-            qi[c].derivatives()[2 * (k - first)] = 1.0;
-            qdi[c].derivatives()[2 * (k - first) + 1] = 1.0;
-          }
+          qi[c] = D(q[k0 + c]);
+          qdi[c] = D(v[k0 + c]);
+        }
+        for (int d = 0; d < chunk.size; ++d) {
+          const int c = chunk.coordinate[d] - k0;
+          if (c >= 0 && c < nc) (chunk.velocity[d] ? qdi[c] : qi[c]).derivatives()[d] = 1.0;
         }
         Motion<D> vJ, aJ;
         if (nc == 1) {
@@ -226,10 +249,7 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
     }
     // Inward over the same bodies; forces leaving the range go to dd.g_n/g_f of the ancestor.
     auto store = [&](int k, const RowN& dtau) {
-      for (int c = 0; c < last - first; ++c) {
-        dd.dtau_dq(k, first + c) = dtau[2 * c];
-        dd.dtau_dv(k, first + c) = dtau[2 * c + 1];
-      }
+      for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.dtau_dv : dd.dtau_dq)(k, chunk.coordinate[d]) = dtau[d];
     };
     for (int i = end - 1; i >= b0; --i) {
       if (!dd.active[i]) continue;
@@ -294,7 +314,7 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
       dd.touched[p] = false;
     }
   }
-  crba(model, dat, q);
+  crba(model, dat, q);  // the base translation columns of dtau_dq, dtau_dv stay zero (DerivativeData)
 }
 
 // ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ of q̈ = ABA(q, q̇, τ), all by AD through aba().

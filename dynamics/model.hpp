@@ -87,7 +87,7 @@ struct Model {
   std::vector<bool> massless;              // I_i = 0 (intermediate links of multi-axis mechanisms)
   std::vector<std::string> body_name;
   std::vector<int> first_coordinate;       // index of body i's first coordinate
-  std::vector<int> num_coordinates;        // 1, or 3 (Planar), 6 (Free)
+  std::vector<int> num_coordinates;        // 1, or 3 (Planar), 6 (Free): only body 0 (parent −1) may have more than 1
 
   // Per coordinate k.
   std::vector<std::string> coordinate_name;  // URDF joint name (or base_x ...)

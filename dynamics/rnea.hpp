@@ -14,21 +14,8 @@ namespace saltus::dynamics {
 // q, qd, qdd point at body i's first coordinate; qdd == nullptr means q̈_i = 0; v_parent ==
 // nullptr means the parent is the fixed world.
 template <class S>
-SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
-                                   const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
-  Motion<S> vJ, ai;
-  if (model.num_coordinates[i] == 1) {
-    data.X_up[i] = jointTransformUp(model, i, *q);
-    vJ = jointVelocity(model, i, *qd);
-    ai = data.X_up[i].apply(a_parent);
-    if (qdd) ai += jointVelocity(model, i, *qdd);
-  } else {
-    Motion<S>* Scol = &data.S_joint[model.first_coordinate[i]];
-    data.X_up[i] = multiJointTransformUp(model, i, q, Scol);
-    vJ = multiJointVelocity(model, i, Scol, qd);
-    ai = data.X_up[i].apply(a_parent) + multiJointBias(model, i, Scol, qd, vJ);
-    if (qdd) ai += multiJointVelocity(model, i, Scol, qdd);
-  }
+SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const Motion<S>& vJ, Motion<S> ai,
+                                   const Motion<S>* v_parent) {
   if (v_parent) {
     data.v[i] = data.X_up[i].apply(*v_parent) + vJ;
     ai += data.v[i].cross(vJ);
@@ -41,6 +28,26 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
     data.f[i] = Force<S>::Zero();
   else
     data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
+}
+template <class S>
+SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
+                                   const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
+  data.X_up[i] = jointTransformUp(model, i, *q);
+  Motion<S> ai = data.X_up[i].apply(a_parent);
+  if (qdd) ai += jointVelocity(model, i, *qdd);
+  rneaForwardStep(model, data, i, jointVelocity(model, i, *qd), ai, v_parent);
+}
+// The same for a multi-coordinate joint, out of line: it runs once per call (the base), and
+// inlined it slows the loop over the one-coordinate joints.
+template <class S>
+[[gnu::noinline]] void rneaMultiForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
+                                            const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
+  Motion<S>* Scol = &data.S_joint[model.first_coordinate[i]];
+  data.X_up[i] = multiJointTransformUp(model, i, q, Scol);
+  const Motion<S> vJ = multiJointVelocity(model, i, Scol, qd);
+  Motion<S> ai = data.X_up[i].apply(a_parent) + multiJointBias(model, i, Scol, qd, vJ);
+  if (qdd) ai += multiJointVelocity(model, i, Scol, qdd);
+  rneaForwardStep(model, data, i, vJ, ai, v_parent);
 }
 
 // τ_i = S_iᵀ f_i into tau[first_coordinate[i] ...] (RBDA Table 5.1, inward loop).
@@ -59,16 +66,21 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
                     const VecRef<S>* a) {
   const int nb = model.nbodies();
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};  // a_0 = −a_g: gravity as a base acceleration
-  for (int i = 0; i < nb; ++i) {
-    const int p = model.parent[i], k = model.first_coordinate[i];
+  // A multi-coordinate joint can only be body 0's (model.hpp); the loops take the others.
+  const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
+  if (b) rneaMultiForwardStep<S>(model, data, 0, q.data(), v.data(), a ? a->data() : nullptr, nullptr, a0);
+  const int off = model.nv() - nb;  // coordinate k = i + off of body i ≥ b
+  for (int i = b; i < nb; ++i) {
+    const int p = model.parent[i], k = i + off;
     rneaForwardStep(model, data, i, q.data() + k, v.data() + k, a ? a->data() + k : nullptr,
                     p < 0 ? nullptr : &data.v[p], p < 0 ? a0 : data.a_gf[p]);
   }
-  for (int i = nb - 1; i >= 0; --i) {
-    jointForces(model, data, i, data.f[i], data.tau.data() + model.first_coordinate[i]);
+  for (int i = nb - 1; i >= b; --i) {
+    data.tau[i + off] = jointForce(model, i, data.f[i]);
     const int p = model.parent[i];
     if (p >= 0) data.f[p] += data.X_up[i].applyTranspose(data.f[i]);
   }
+  if (b) multiJointForce(model, 0, data.S_joint.data(), data.f[0], data.tau.data());
   return data.tau;
 }
 }  // namespace detail
