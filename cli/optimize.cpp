@@ -1,7 +1,9 @@
 // saltus optimize PROBLEM: contact-implicit trajectory optimisation (collocation/) of a problem
 // file or built-in problem with one of three methods, solved in two stages with Ipopt. Writes
-// DIR/trajectory.csv (collocation/solution.hpp) and DIR/summary.json; both appear only when the
-// solve ran (a failed or infeasible solve still writes them, with Ipopt's status, and exits 1).
+// DIR/trajectory.csv (collocation/solution.hpp), DIR/variables.csv (the decision variables, from
+// which collocation/saved_solution.hpp rebuilds the solution for replay, rendering or seeding) and
+// DIR/summary.json; they appear only when the solve ran (a failed or infeasible solve still
+// writes them, with Ipopt's status, and exits 1).
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "collocation/problem_file.hpp"
+#include "collocation/saved_solution.hpp"
 #include "collocation/solution.hpp"
 #include "collocation/solver.hpp"
 
@@ -27,31 +30,15 @@ struct OptimizeOptions {
   std::string method = "impulsive";
   std::optional<int> P, N;
   std::optional<unsigned> seed;
+  std::string seed_from;
+  std::optional<double> seed_scale;
+  std::optional<int> restarts;
   std::vector<std::string> set, ipopt;
   std::string hessian;
   int print_level = 0;
   bool derivative_check = false;
   std::string out;
 };
-
-// Moves a mesh point given as "the end" ([N−1, P+1]) or an element index along with a changed N or P.
-void remesh(Problem& p, int N, int P) {
-  auto fix = [&](std::vector<PointBound>& list) {
-    for (PointBound& b : list) {
-      if (b.element == p.N - 1 && b.point == p.P + 1) {
-        b.element = N - 1;
-        b.point = P + 1;
-      } else if (b.element >= N || b.point > P + 1) {
-        throw UsageError("--N/--P: the condition given at " + b.origin + " lies outside the new mesh (N = " +
-                         std::to_string(N) + ", P = " + std::to_string(P) + ")");
-      }
-    }
-  };
-  fix(p.bounds);
-  fix(p.hints);
-  p.N = N;
-  p.P = P;
-}
 
 int optimize(const OptimizeOptions& opt) {
   Method method;
@@ -69,8 +56,28 @@ int optimize(const OptimizeOptions& opt) {
   Problem problem = loadProblem(opt.problem, parseSetOptions(opt.set));
   if (opt.P && (*opt.P < 1 || *opt.P > 9)) throw UsageError("--P: expected an order from 1 to 9, got " + std::to_string(*opt.P));
   if (opt.N && *opt.N < 1) throw UsageError("--N: expected at least 1 element, got " + std::to_string(*opt.N));
-  if (opt.P || opt.N) remesh(problem, opt.N.value_or(problem.N), opt.P.value_or(problem.P));
+  if (opt.P || opt.N) {
+    try {
+      remesh(problem, opt.N.value_or(problem.N), opt.P.value_or(problem.P));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--N/--P: ") + e.what());
+    }
+  }
   if (opt.seed) problem.random_seed = *opt.seed;
+  if (!opt.seed_from.empty()) {
+    problem.seed_kind = SeedKind::Solution;
+    problem.seed_solution = opt.seed_from;
+  }
+  if (opt.seed_scale) {
+    if (!(*opt.seed_scale >= 0)) throw UsageError("--seed-scale: expected a non-negative number");
+    problem.seed_scale = *opt.seed_scale;
+  }
+  if (opt.restarts) {
+    if (*opt.restarts < 0) throw UsageError("--restarts: expected a non-negative integer");
+    problem.restarts = *opt.restarts;
+  }
+  if (fs::exists(opt.out) && !fs::is_directory(opt.out))
+    throw UsageError("--out " + opt.out + ": exists and is not a directory");
   if (!opt.hessian.empty()) {
     if (opt.hessian != "exact" && opt.hessian != "limited-memory")
       throw UsageError("--hessian: expected exact or limited-memory, got '" + opt.hessian + "'");
@@ -79,28 +86,41 @@ int optimize(const OptimizeOptions& opt) {
   problem.derivative_check = problem.derivative_check || opt.derivative_check;
 
   const Transcription t(problem, method);  // refuses what the method cannot represent
-  Eigen::VectorXd x0 = t.nullSeed();
-  if (problem.seed_kind == SeedKind::Perturbed) x0 = t.perturb(x0, problem.seed_scale, problem.random_seed);
-  if (problem.seed_kind == SeedKind::Solution)
-    throw std::runtime_error(problem.source + ": seed: solution is not supported by saltus optimize yet; use null or perturbed");
+  Eigen::VectorXd base = t.nullSeed();
+  if (problem.seed_kind == SeedKind::Solution) base = seedFromSolution(t, loadSolution(problem.seed_solution));
+  // Attempt k (restarts after an infeasible end) perturbs the seed with random_seed + k; the
+  // first attempt from a null seed is the null seed itself.
+  const SeedFunction seed = [&](int k) -> Eigen::VectorXd {
+    if (problem.seed_kind == SeedKind::Null && k == 0) return base;
+    if (problem.seed_scale <= 0) return base;
+    return t.perturb(base, problem.seed_scale, problem.random_seed + static_cast<unsigned>(k));
+  };
   SolveOptions so;
   so.print_level = opt.print_level;
   so.ipopt = ipopt;
-  const SolveReport r = solve(t, x0, so);
+  so.warm_seed = problem.seed_kind == SeedKind::Solution;
+  so.restarts = problem.seed_scale > 0 ? problem.restarts : 0;  // without a perturbation every attempt is the same
+  const SolveReport r = solve(t, seed, so);
 
   fs::create_directories(opt.out);
   const std::vector<Sample> samples = trajectory(t, r.x);
   writeTrajectoryCsv((fs::path(opt.out) / "trajectory.csv").string(), t, samples);
+  writeSolution(opt.out, t, r.x);
 
   nlohmann::ordered_json j;
   j["problem"] = problem.name;
-  j["source"] = problem.source;
+  // files by absolute path: replay and render may run from another directory
+  j["source"] = problem.source.rfind("builtin:", 0) == 0 ? problem.source
+                                                          : fs::absolute(problem.source).lexically_normal().string();
   j["method"] = toString(method);
   j["N"] = problem.N;
   j["P"] = method == Method::FirstOrder ? 1 : problem.P;
   j["elements"] = t.elements();
-  j["seed"] = problem.seed_kind == SeedKind::Null ? "null" : "perturbed";
+  j["seed"] = problem.seed_kind == SeedKind::Null ? "null" : problem.seed_kind == SeedKind::Perturbed ? "perturbed" : "solution";
+  if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
+  j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
+  j["restarts"] = problem.restarts;
   j["feasible"] = r.feasible;
   j["objective"] = r.objective;
   j["largest_product"] = r.largest_product;
@@ -123,15 +143,27 @@ int optimize(const OptimizeOptions& opt) {
                            {"iterations", s.iterations},
                            {"objective", s.objective},
                            {"largest_product", s.largest_product},
+                           {"largest_violation", s.largest_violation},
                            {"wall_seconds", s.wall_seconds},
                            {"evaluation_seconds", s.evaluation_seconds}});
+  for (const AttemptReport& a : r.attempts)
+    j["attempts"].push_back({{"attempt", a.attempt},
+                             {"random_seed", problem.random_seed + a.attempt},
+                             {"feasible", a.feasible},
+                             {"largest_product", a.largest_product},
+                             {"iterations", a.iterations},
+                             {"wall_seconds", a.wall_seconds}});
+  if (!r.note.empty()) j["note"] = r.note;
   j["parameters"] = problem.parameters;
   writeFileAtomically((fs::path(opt.out) / "summary.json").string(), j.dump(2) + "\n");
 
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
             << (r.feasible ? "feasible" : "NOT feasible") << " (" << r.stages.back().status << ", largest product "
             << r.largest_product << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
-            << r.evaluation_seconds << " s evaluating) -> " << opt.out << "\n";
+            << r.evaluation_seconds << " s evaluating"
+            << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
+            << opt.out << "\n";
+  if (!r.note.empty()) std::cerr << "saltus optimize: " << r.note << "\n";
   return r.feasible ? 0 : 1;
 }
 
@@ -144,13 +176,16 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--method", opt->method, "impulsive (default), continuous or first-order");
   app->add_option("--P", opt->P, "collocation points per element (overrides the file)");
   app->add_option("--N", opt->N, "finite elements (overrides the file)");
-  app->add_option("--seed", opt->seed, "random seed of the perturbed initial guess");
+  app->add_option("--seed", opt->seed, "random seed of the perturbation of the initial guess");
+  app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
+  app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
+  app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
   app->add_option("--hessian", opt->hessian, "exact (default) or limited-memory");
   app->add_flag("--derivative-check", opt->derivative_check, "run Ipopt's second-order derivative checker");
   app->add_option("--print-level", opt->print_level, "Ipopt's print_level (0 = quiet)");
-  app->add_option("--out", opt->out, "output directory (trajectory.csv, summary.json)")->required();
+  app->add_option("--out", opt->out, "output directory (trajectory.csv, variables.csv, summary.json)")->required();
   return {app, [opt] { return optimize(*opt); }};
 }
 

@@ -19,14 +19,17 @@ class Timer {
 };
 }  // namespace
 
-Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0) : t_(t), stage_(stage), x0_(x0) {
+Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start)
+    : t_(t), stage_(stage), x0_(x0), start_(std::move(start)) {
   if (stage == Stage::Feasibility) {
     x_lower_ = t.hintedLower();
     x_upper_ = t.hintedUpper();
   } else {
     x_lower_ = t.variableLower();
     x_upper_ = t.variableUpper();
-    for (int e : t.penaltyVariables()) x_upper_[e] = t.problem().complementarity_tolerance;
+    // ε ≤ the tolerance, less a margin: Ipopt meets A·B − ε ≤ 0 only to its constraint
+    // tolerance, and a solution is judged by A·B ≤ tolerance (solver.hpp).
+    for (int e : t.penaltyVariables()) x_upper_[e] = kPenaltyBoundFraction * t.problem().complementarity_tolerance;
   }
   // Sparsity: dense local blocks mapped to global entries; duplicates share an entry.
   std::map<std::pair<int, int>, int> jac, hess;
@@ -94,11 +97,15 @@ bool Nlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u
   return true;
 }
 
-bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number*,
-                             Ipopt::Number*, Ipopt::Index, bool init_lambda, Ipopt::Number*) {
-  if (init_z || init_lambda) return false;
+bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                             Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda, Ipopt::Number* lambda) {
+  if ((init_z || init_lambda) && start_.empty()) return false;
   if (init_x)
     for (int i = 0; i < n; ++i) x[i] = x0_[i];
+  if (init_z)
+    for (int i = 0; i < n; ++i) z_L[i] = start_.z_lower[i], z_U[i] = start_.z_upper[i];
+  if (init_lambda)
+    for (int i = 0; i < m; ++i) lambda[i] = start_.lambda[i];
   return true;
 }
 
@@ -186,12 +193,15 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
 }
 
 void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
-                            const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index, const Ipopt::Number*,
-                            const Ipopt::Number*, Ipopt::Number obj_value, const Ipopt::IpoptData*,
+                            const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m, const Ipopt::Number*,
+                            const Ipopt::Number* lambda, Ipopt::Number obj_value, const Ipopt::IpoptData*,
                             Ipopt::IpoptCalculatedQuantities*) {
   status_ = status;
   objective_ = obj_value;
   x_ = Eigen::Map<const Eigen::VectorXd>(x, n);
+  multipliers_.z_lower = Eigen::Map<const Eigen::VectorXd>(z_L, n);
+  multipliers_.z_upper = Eigen::Map<const Eigen::VectorXd>(z_U, n);
+  multipliers_.lambda = Eigen::Map<const Eigen::VectorXd>(lambda, m);
 }
 
 double Nlp::cost(const Eigen::VectorXd& x) {

@@ -16,12 +16,24 @@ namespace saltus::collocation {
 
 enum class Stage { Feasibility, Task };
 
+// The task stage bounds every ε by this fraction of the complementarity tolerance.
+constexpr double kPenaltyBoundFraction = 0.9;
+
+// Ipopt's multipliers at a solution: bound multipliers z_L, z_U and constraint multipliers λ.
+struct Multipliers {
+  Eigen::VectorXd z_lower, z_upper, lambda;
+  bool empty() const { return lambda.size() == 0 && z_lower.size() == 0; }
+};
+
 class Nlp : public Ipopt::TNLP {
  public:
-  Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0);
+  // With `start` (non-empty) the multipliers are handed to Ipopt too, for
+  // warm_start_init_point = yes.
+  Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start = {});
 
   // Results of the last solve.
   const Eigen::VectorXd& solution() const { return x_; }
+  const Multipliers& multipliers() const { return multipliers_; }
   Ipopt::SolverReturn status() const { return status_; }
   double objective() const { return objective_; }
   double evaluationSeconds() const { return eval_seconds_; }
@@ -65,6 +77,7 @@ class Nlp : public Ipopt::TNLP {
   std::vector<int> hess_row_, hess_col_, hess_pos_, hess_first_;  // per block: first in hess_pos_ (−1: none)
   std::vector<double> local_x_, local_y_, local_d_, local_l_;
   Eigen::VectorXd x_;
+  Multipliers start_, multipliers_;
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   double objective_ = 0;
   double eval_seconds_ = 0;

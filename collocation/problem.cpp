@@ -23,4 +23,29 @@ Method parseMethod(const std::string& name) {
                               "; expected one of: " + scene::joinNames(names));
 }
 
+void remesh(Problem& p, int N, int P) {
+  if (N < 1) throw std::invalid_argument("N: expected at least 1 element, got " + std::to_string(N));
+  if (P < 1) throw std::invalid_argument("P: expected at least 1 collocation point, got " + std::to_string(P));
+  auto fix = [&](std::vector<PointBound>& list) {
+    for (PointBound& b : list) {
+      if (b.element == p.N - 1 && b.point == p.P + 1) {
+        b.element = N - 1;
+        b.point = P + 1;
+      } else if (b.element >= N || b.point > P + 1) {
+        throw std::invalid_argument("the condition given at " + b.origin + " lies outside the new mesh (N = " +
+                                    std::to_string(N) + ", P = " + std::to_string(P) + ")");
+      }
+    }
+  };
+  fix(p.bounds);
+  fix(p.hints);
+  for (const auto& [surface, steps] : p.surface_steps)
+    for (const SurfaceStep& step : steps)
+      if (step.element >= N)
+        throw std::invalid_argument("surface '" + p.scene.surfaces.at(surface).name + "' steps its velocity at element " +
+                                    std::to_string(step.element + 1) + ", outside the new mesh (N = " + std::to_string(N) + ")");
+  p.N = N;
+  p.P = P;
+}
+
 }  // namespace saltus::collocation

@@ -112,6 +112,10 @@ struct Problem {
   SeedKind seed_kind = SeedKind::Perturbed;
   double seed_scale = 0.1;
   unsigned random_seed = 1;
+  // Further attempts when a solve ends infeasible (a local minimum of the penalty, paper §VI):
+  // attempt k starts from the seed perturbed with random_seed + k (a perturbed seed), or from
+  // the null seed perturbed with random_seed + k (a null seed).
+  int restarts = 2;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
   bool exact_hessian = true;  // false: Ipopt's limited-memory quasi-Newton
   bool derivative_check = false;  // Ipopt's derivative checker (second order) before solving
@@ -120,5 +124,10 @@ struct Problem {
   std::map<std::string, std::string> ipopt_options;
   std::map<std::string, double> parameters;  // the named parameters in use (after --set)
 };
+
+// Changes the mesh to N elements of P collocation points. A condition at the end of the old
+// mesh ([N − 1, P + 1]) moves to the new end; any other condition must lie inside the new mesh
+// (std::invalid_argument naming where the condition was given).
+void remesh(Problem& problem, int N, int P);
 
 }  // namespace saltus::collocation

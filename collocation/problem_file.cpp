@@ -411,7 +411,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "hessian", "derivative_check"},
+               "restarts", "hessian", "derivative_check"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -435,6 +435,10 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     const int seed = r_.integer(s, "solve.random_seed");
     if (seed < 0) r_.fail(s, "solve.random_seed", "expected a non-negative integer, got " + std::to_string(seed));
     p_.random_seed = static_cast<unsigned>(seed);
+  }
+  if (const YAML::Node s = node["restarts"]; s.IsDefined()) {
+    p_.restarts = r_.integer(s, "solve.restarts");
+    if (p_.restarts < 0) r_.fail(s, "solve.restarts", "expected a non-negative integer, got " + std::to_string(p_.restarts));
   }
   if (const YAML::Node s = node["seed_solution"]; s.IsDefined()) {
     fs::path path = r_.text(s, "solve.seed_solution");

@@ -3,7 +3,12 @@
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <unistd.h>
 #include <stdexcept>
 
 #include "collocation/nlp.hpp"
@@ -70,8 +75,9 @@ void setOption(Ipopt::IpoptApplication& app, const std::string& name, const std:
                            ")");
 }
 
-StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const SolveOptions& options,
-                     Eigen::VectorXd& x_out, SolveReport& report) {
+StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
+                     const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
+                     SolveReport& report) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
@@ -85,10 +91,16 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   app->Options()->SetStringValue("mu_strategy", "adaptive");
   app->Options()->SetStringValue("hessian_approximation",
                                  t.problem().exact_hessian ? "exact" : "limited-memory");
-  if (stage == Stage::Task) {  // start close to the feasibility stage's point
+  if (stage == Stage::Task || options.warm_seed) {  // start close to the given point
     app->Options()->SetNumericValue("bound_push", 1e-6);
     app->Options()->SetNumericValue("bound_frac", 1e-6);
     app->Options()->SetNumericValue("mu_init", 1e-4);
+  }
+  if (!start.empty()) {  // and its multipliers
+    app->Options()->SetStringValue("warm_start_init_point", "yes");
+    app->Options()->SetNumericValue("warm_start_bound_push", 1e-6);
+    app->Options()->SetNumericValue("warm_start_bound_frac", 1e-6);
+    app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-6);
   }
   if (t.problem().derivative_check) {
     app->Options()->SetStringValue("derivative_test", "second-order");
@@ -98,20 +110,23 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
 
-  Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0);
-  const auto start = std::chrono::steady_clock::now();
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
+  const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
   r.name = stage == Stage::Feasibility ? "feasibility" : "task";
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   r.status_code = status;
   r.status = ipoptStatusName(status);
   r.succeeded = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   if (IsValid(app->Statistics())) r.iterations = app->Statistics()->IterationCount();
   r.evaluation_seconds = nlp->evaluationSeconds();
   x_out = nlp->solution().size() == t.variables() ? nlp->solution() : x0;
+  multipliers_out = nlp->multipliers();
   r.objective = nlp->solution().size() == t.variables() ? nlp->objective() : 0;
   r.largest_product = t.largestProduct(x_out);
+  const Eigen::VectorXd g = nlp->constraints(x_out);
+  r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
   report.jacobian_nonzeros = nlp->jacobianNonzeros();
   report.hessian_nonzeros = nlp->hessianNonzeros();
   return r;
@@ -123,18 +138,34 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   SolveReport report;
   report.variables = t.variables();
   report.constraints = t.constraints();
+  const double tolerance = t.problem().complementarity_tolerance;
   Eigen::VectorXd x = x0;
-  report.stages.push_back(runStage(t, Stage::Feasibility, x0, options, x, report));
+  Multipliers multipliers;
+  report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
+  const StageReport& first = report.stages.back();
+  const bool first_feasible = first.succeeded && first.largest_product <= tolerance;
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
-  const bool task = (t.problem().task_stage && t.problem().cost.hasTask()) || !t.problem().hints.empty();
-  if (task && report.stages.back().succeeded) {
+  const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
+  const bool task = has_task || !t.problem().hints.empty();
+  if (task && first.succeeded) {
     const Eigen::VectorXd x1 = x;
-    report.stages.push_back(runStage(t, Stage::Task, x1, options, x, report));
+    // The multipliers help only near a solution: the feasibility stage's are those of a point
+    // of the real problem when its products are within the tolerance.
+    const Multipliers start = options.warm_start_multipliers && first_feasible ? multipliers : Multipliers{};
+    report.stages.push_back(runStage(t, Stage::Task, x1, start, options, x, multipliers, report));
+    const StageReport& second = report.stages.back();
+    const bool second_feasible = second.succeeded && second.largest_product <= tolerance;
+    if (!second_feasible && first_feasible && !has_task) {
+      // Without a task cost the task stage only drops the hints, and the feasibility stage's
+      // point satisfies every constraint of the problem (the hints only add bounds).
+      x = x1;
+      report.note = "the task stage ended " + second.status + "; kept the feasibility stage's solution";
+    }
   }
   report.x = x;
   report.largest_product = t.largestProduct(x);
-  report.objective = report.stages.back().objective;
+  report.objective = report.note.empty() ? report.stages.back().objective : report.stages.front().objective;
   bool all = true;
   for (const StageReport& s : report.stages) {
     all = all && s.succeeded;
@@ -142,9 +173,77 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     report.evaluation_seconds += s.evaluation_seconds;
     report.iterations += s.iterations;
   }
-  report.feasible = all && (!task || report.stages.size() == 2) &&
-                    report.largest_product <= t.problem().complementarity_tolerance;
+  if (!report.note.empty()) all = first.succeeded;
+  report.feasible = all && (!task || report.stages.size() == 2) && report.largest_product <= tolerance;
+  report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
+}
+
+SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveOptions& options) {
+  SolveReport total;
+  std::vector<AttemptReport> attempts;
+  double wall = 0, eval = 0;
+  int iterations = 0;
+  for (int k = 0; k <= std::max(0, options.restarts); ++k) {
+    total = solve(t, seed(k), options);
+    wall += total.wall_seconds;
+    eval += total.evaluation_seconds;
+    iterations += total.iterations;
+    AttemptReport a = total.attempts.front();
+    a.attempt = k;
+    attempts.push_back(a);
+    if (total.feasible) break;
+  }
+  total.attempts = attempts;
+  total.wall_seconds = wall;
+  total.evaluation_seconds = eval;
+  total.iterations = iterations;
+  return total;
+}
+
+DerivativeCheckReport checkDerivatives(const Transcription& t, Stage stage, const Eigen::VectorXd& x,
+                                       bool second_order, double tolerance) {
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  char path[] = "/tmp/saltus-derivative-check-XXXXXX";
+  const int fd = ::mkstemp(path);
+  if (fd < 0) throw std::runtime_error("derivative check: cannot create a temporary file");
+  ::close(fd);
+  auto& o = *app->Options();
+  o.SetIntegerValue("print_level", 0);
+  o.SetStringValue("sb", "yes");
+  o.SetStringValue("output_file", path);
+  o.SetIntegerValue("file_print_level", 5);
+  o.SetStringValue("derivative_test", second_order ? "second-order" : "first-order");
+  o.SetNumericValue("derivative_test_tol", tolerance);
+  o.SetNumericValue("derivative_test_perturbation", 1e-7);
+  o.SetIntegerValue("max_iter", 0);
+  o.SetStringValue("hessian_approximation", "exact");
+  // The check runs at the starting point: keep x where it is.
+  o.SetNumericValue("bound_push", 1e-12);
+  o.SetNumericValue("bound_frac", 1e-12);
+  DerivativeCheckReport r;
+  if (app->Initialize() == Ipopt::Solve_Succeeded) {
+    Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x);
+    app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
+  }
+  app = nullptr;  // closes the output file
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find("No errors detected by derivative checker") != std::string::npos) r.ran = true;
+    const auto k = line.find("Derivative checker detected");
+    if (k != std::string::npos) {
+      r.ran = true;
+      r.errors = std::atoi(line.c_str() + k + std::string("Derivative checker detected").size());
+    }
+    if (line.find('*') != std::string::npos && (line.find("Grad") != std::string::npos ||
+                                                line.find("jac_g") != std::string::npos ||
+                                                line.find("obj_hess") != std::string::npos ||
+                                                line.find("hess") != std::string::npos))
+      r.log += line + "\n";
+  }
+  std::remove(path);
+  return r;
 }
 
 }  // namespace saltus::collocation

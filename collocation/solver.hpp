@@ -1,14 +1,17 @@
 // The two-stage solve of paper §V.C with Ipopt: first the feasibility stage (minimise the
 // complementarity penalty Σ ε from the seed, hints applied), then, when the problem has a task
 // cost or hints, the task stage (minimise the task cost and the weighted penalty with every
-// ε ≤ the complementarity tolerance and without the hints, warm-started from the first stage). A solution is feasible when Ipopt succeeded and every product A·B is
-// at most the tolerance (1e-4).
+// ε ≤ the complementarity tolerance and without the hints, warm-started from the first stage:
+// its point, and (by default) its multipliers with Ipopt's warm_start_init_point). A solution is
+// feasible when Ipopt succeeded and every product A·B is at most the tolerance (1e-4).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "collocation/nlp.hpp"
 #include "collocation/transcription.hpp"
 
 namespace saltus::collocation {
@@ -21,12 +24,26 @@ struct StageReport {
   int iterations = 0;
   double objective = 0;
   double largest_product = 0;
+  double largest_violation = 0;   // of a constraint's bounds (before the products' ε), at its end
   double wall_seconds = 0;
   double evaluation_seconds = 0;  // in our function and derivative callbacks
 };
 
+// One attempt of a solve with restarts.
+struct AttemptReport {
+  int attempt = 0;
+  bool feasible = false;
+  double largest_product = 0;
+  int iterations = 0;
+  double wall_seconds = 0;
+};
+
 struct SolveReport {
-  std::vector<StageReport> stages;
+  std::vector<StageReport> stages;  // of the last attempt
+  std::vector<AttemptReport> attempts;
+  // Set when the task stage failed and the feasibility stage's solution (feasible, and the
+  // problem has no task cost) was kept.
+  std::string note;
   Eigen::VectorXd x;      // the last stage's solution
   bool feasible = false;  // every stage succeeded and every product ≤ tolerance
   double largest_product = 0;
@@ -39,7 +56,16 @@ struct SolveReport {
 struct SolveOptions {
   int print_level = 0;  // Ipopt's print_level (0 … 12)
   std::map<std::string, std::string> ipopt;  // extra options (the problem's, then the command line's)
+  // The task stage starts from the feasibility stage's multipliers as well as its point.
+  bool warm_start_multipliers = true;
+  // The seed is close to a solution (an earlier solution): the feasibility stage starts with a
+  // small barrier parameter and keeps the seed close to its bounds, as the task stage does.
+  bool warm_seed = false;
+  int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
 };
+
+// The starting point of attempt k = 0, 1, …
+using SeedFunction = std::function<Eigen::VectorXd(int attempt)>;
 
 // Thrown for an Ipopt option that does not exist or has a value of the wrong type.
 class IpoptOptionError : public std::invalid_argument {
@@ -47,7 +73,26 @@ class IpoptOptionError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// One attempt from x0 (options.restarts is ignored).
 SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const SolveOptions& options);
+// Up to 1 + options.restarts attempts, from seed(0), seed(1), …, until one is feasible; the
+// report is the feasible attempt's (or the last one's), with every attempt listed and the
+// times and iterations summed over them.
+SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveOptions& options);
+
+// Ipopt's derivative checker (derivative_test = second-order) at x: the gradient of the cost, the
+// Jacobian of the constraints and the Hessian of the Lagrangian of one stage against Ipopt's own
+// finite differences, without iterating. Ipopt writes its findings to a temporary file, parsed
+// here; `log` keeps the lines about the entries it flagged.
+struct DerivativeCheckReport {
+  bool ran = false;  // Ipopt ran the checker (its summary line was found)
+  int errors = 0;    // entries whose relative error exceeds derivative_test_tol
+  std::string log;
+};
+// Ipopt 3.11's checker costs about n·m·nnz: seconds for a few hundred variables, minutes for a
+// thousand; `second_order` = false checks the gradient and the Jacobian only.
+DerivativeCheckReport checkDerivatives(const Transcription& t, Stage stage, const Eigen::VectorXd& x,
+                                       bool second_order = true, double tolerance = 1e-4);
 
 // Ipopt's name of an ApplicationReturnStatus, e.g. "Infeasible_Problem_Detected".
 std::string ipoptStatusName(int status);

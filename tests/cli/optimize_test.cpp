@@ -73,7 +73,28 @@ TEST(Optimize, PointMassDropWritesTrajectoryAndSummary) {
   }
   EXPECT_EQ(rows, 20 * 6 - 0);  // 6 points per element (P = 4), every [n, 0] kept (the jumps)
   EXPECT_EQ(jumps, 1);
+
+  // The solution seeds a new solve (unperturbed): it ends feasible again, and says where it started.
+  EXPECT_NE(readFile(dir / "variables.csv").find("# source: builtin:point_mass_drop"), std::string::npos);
+  const fs::path again = freshDir("drop_again");
+  const auto r2 = runSaltus({"optimize", "point_mass_drop", "--seed-from", dir.string(), "--seed-scale", "0",
+                             "--restarts", "0", "--out", again.string()});
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  const nlohmann::json s2 = nlohmann::json::parse(readFile(again / "summary.json"));
+  EXPECT_EQ(s2["seed"], "solution");
+  EXPECT_EQ(s2["seed_solution"], dir.string());
+  EXPECT_TRUE(s2["feasible"].get<bool>());
+  EXPECT_EQ(s2["attempts"].size(), 1u);
   fs::remove_all(dir);
+  fs::remove_all(again);
+}
+
+TEST(Optimize, SeedFromAMissingSolutionIsAnError) {
+  const fs::path dir = freshDir("seed_missing");
+  const auto r = runSaltus({"optimize", "point_mass_drop", "--seed-from", "/nonexistent/run", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/nonexistent/run/variables.csv: cannot read the solution"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir)) << "nothing written before the solve";
 }
 
 TEST(Optimize, ContinuousRefusesRestitution) {

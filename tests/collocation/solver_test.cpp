@@ -136,5 +136,59 @@ TEST(Solver, GaussCollocationConvergenceOrder) {
   }
 }
 
+// Ipopt's own derivative checker on the built-in problems, at a perturbed seed, for every method
+// and both stages: first and second derivatives on the point-mass drop, first derivatives on the
+// pendulum (Ipopt 3.11's second-order check takes minutes there; nlp_test.cpp checks those
+// Hessians against finite differences). The local functions are the same in every element, so
+// smaller meshes than the files' keep the checker's n·m·nnz cost down.
+TEST(Solver, IpoptDerivativeCheckerPassesOnTheBuiltinProblems) {
+  struct Case {
+    const char* name;
+    int N, P;
+    bool second_order;
+  };
+  for (const Case& c : {Case{"point_mass_drop", 3, 2, true}, Case{"pendulum_conveyor", 6, 2, false}})
+    for (Method m : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
+      Problem p = loadProblem(c.name);
+      p.hints.clear();
+      remesh(p, c.N, c.P);
+      const Transcription t(p, m);
+      const Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.1, 5);
+      // The stages share the constraints and differ in the cost: the task stage has every term.
+      for (Stage stage : {Stage::Feasibility, Stage::Task}) {
+        if (c.second_order && stage == Stage::Feasibility) continue;
+        const DerivativeCheckReport r = checkDerivatives(t, stage, x, c.second_order);
+        EXPECT_TRUE(r.ran) << c.name << ", " << toString(m) << ": Ipopt's checker gave no summary";
+        EXPECT_EQ(r.errors, 0) << c.name << ", " << toString(m) << ":\n" << r.log;
+      }
+    }
+}
+
+// A solve that ends infeasible restarts from the next seed when restarts are allowed, and stops
+// at the first feasible attempt; every attempt is reported and the iterations add up.
+TEST(Solver, RestartsAfterAnInfeasibleEnd) {
+  const Problem p = loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions o;
+  o.restarts = 3;
+  std::vector<int> asked;
+  const SolveReport r = solve(
+      t,
+      [&](int k) {
+        asked.push_back(k);
+        Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.1, 2);  // random seed 2 solves (PointMassDropHalfElastic)
+        if (k == 0) x[t.layout()[3].points[1].q] = std::nan("");  // attempt 0 cannot even start
+        return x;
+      },
+      o);
+  EXPECT_EQ(asked, (std::vector<int>{0, 1}));
+  ASSERT_EQ(r.attempts.size(), 2u);
+  EXPECT_FALSE(r.attempts[0].feasible);
+  EXPECT_TRUE(r.attempts[1].feasible);
+  EXPECT_TRUE(r.feasible);
+  EXPECT_EQ(r.iterations, r.attempts[0].iterations + r.attempts[1].iterations);
+  EXPECT_LE(r.largest_product, p.complementarity_tolerance);
+}
+
 }  // namespace
 }  // namespace saltus::collocation

@@ -1,0 +1,197 @@
+#include "collocation/saved_solution.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <unistd.h>
+
+#include "collocation/problem_file.hpp"
+
+namespace saltus::collocation {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFileName = "variables.csv";
+constexpr const char* kBuiltinPrefix = "builtin:";
+
+// The source as written: built-ins by name, files by absolute path (a replay may run elsewhere).
+std::string sourceForFile(const std::string& source) {
+  if (source.rfind(kBuiltinPrefix, 0) == 0 || source.empty()) return source;
+  return fs::absolute(source).lexically_normal().string();
+}
+
+double parseNumber(const std::string& text, const std::string& where, const std::string& what) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  while (used < text.size() && std::isspace(static_cast<unsigned char>(text[used]))) ++used;
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw SolutionError(where + ": " + what + ": expected a finite number, got '" + text + "'");
+  return value;
+}
+
+int parseInteger(const std::string& text, const std::string& where, const std::string& what) {
+  const double v = parseNumber(text, where, what);
+  if (v != std::floor(v) || v < 1 || v > 1e6)
+    throw SolutionError(where + ": " + what + ": expected a positive integer, got '" + text + "'");
+  return static_cast<int>(v);
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+}  // namespace
+
+void writeSolution(const std::string& dir, const Transcription& t, const Eigen::VectorXd& x) {
+  const Problem& p = t.problem();
+  const std::string path = (fs::path(dir) / kFileName).string();
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "w");
+  if (!f) throw SolutionError(path + ": cannot write the solution");
+  std::fprintf(f, "# saltus solution: decision variables by name\n");
+  std::fprintf(f, "# source: %s\n", sourceForFile(p.source).c_str());
+  std::fprintf(f, "# method: %s\n", toString(t.method()));
+  std::fprintf(f, "# N: %d\n# P: %d\n", p.N, p.P);
+  for (const auto& [name, value] : p.parameters) std::fprintf(f, "# parameter.%s: %.17g\n", name.c_str(), value);
+  std::fprintf(f, "name,value\n");
+  for (int i = 0; i < t.variables(); ++i) std::fprintf(f, "%s,%.17g\n", t.variableNames()[i].c_str(), x[i]);
+  const bool ok = std::fflush(f) == 0 && !std::ferror(f);
+  std::fclose(f);
+  std::error_code ec;
+  if (!ok || (fs::rename(tmp, path, ec), ec)) {
+    fs::remove(tmp, ec);
+    throw SolutionError(path + ": cannot write the solution");
+  }
+}
+
+SavedSolution loadSolution(const std::string& path) {
+  fs::path file = path;
+  if (fs::is_directory(file) || (!fs::exists(file) && !file.has_extension())) file /= kFileName;
+  else if (file.filename() != kFileName) file = file.parent_path() / kFileName;
+  std::ifstream in(file);
+  if (!in)
+    throw SolutionError(file.string() + ": cannot read the solution (saltus optimize writes variables.csv into its --out directory)");
+
+  // Header: '# key: value' lines, then "name,value".
+  std::map<std::string, std::string> keys;
+  std::map<std::string, double> parameters;
+  std::string line;
+  int line_no = 0;
+  bool header_done = false;
+  auto where = [&] { return file.string() + ":" + std::to_string(line_no); };
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.rfind("#", 0) == 0) {
+      const std::string body = trim(line.substr(1));
+      const auto colon = body.find(':');
+      if (colon == std::string::npos) continue;  // a comment
+      const std::string key = trim(body.substr(0, colon)), value = trim(body.substr(colon + 1));
+      if (key.rfind("parameter.", 0) == 0) parameters[key.substr(10)] = parseNumber(value, where(), key);
+      else keys[key] = value;
+      continue;
+    }
+    if (trim(line) != "name,value") throw SolutionError(where() + ": expected the column header 'name,value', got '" + line + "'");
+    header_done = true;
+    break;
+  }
+  if (!header_done) throw SolutionError(file.string() + ": no 'name,value' header: not a saltus solution");
+  for (const char* k : {"source", "method", "N", "P"})
+    if (!keys.count(k)) throw SolutionError(file.string() + ": the header lacks '# " + k + ": ...'");
+
+  SavedSolution s;
+  s.file = file.string();
+  std::string source = keys["source"];
+  if (source.rfind(kBuiltinPrefix, 0) == 0) source = source.substr(std::string(kBuiltinPrefix).size());
+  s.problem = std::make_unique<Problem>(loadProblem(source, parameters));
+  Method method;
+  try {
+    method = parseMethod(keys["method"]);
+  } catch (const std::invalid_argument& e) {
+    throw SolutionError(file.string() + ": method: " + e.what());
+  }
+  const int N = parseInteger(keys["N"], file.string(), "N"), P = parseInteger(keys["P"], file.string(), "P");
+  try {
+    remesh(*s.problem, N, P);
+  } catch (const std::invalid_argument& e) {
+    throw SolutionError(file.string() + ": " + e.what());
+  }
+  s.transcription = std::make_unique<Transcription>(*s.problem, method);
+
+  std::map<std::string, int> index;
+  const auto& names = s.transcription->variableNames();
+  for (int i = 0; i < static_cast<int>(names.size()); ++i) index[names[i]] = i;
+  s.x = Eigen::VectorXd::Constant(s.transcription->variables(), std::nan(""));
+  int count = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty()) continue;
+    const auto comma = line.rfind(',');
+    if (comma == std::string::npos) throw SolutionError(where() + ": expected name,value, got '" + line + "'");
+    const std::string name = line.substr(0, comma);
+    const auto it = index.find(name);
+    if (it == index.end())
+      throw SolutionError(where() + ": variable '" + name + "' does not belong to the rebuilt transcription (" +
+                          keys["method"] + ", N = " + keys["N"] + ", P = " + keys["P"] + "): the problem changed since?");
+    if (!std::isnan(s.x[it->second])) throw SolutionError(where() + ": variable '" + name + "' is given twice");
+    s.x[it->second] = parseNumber(line.substr(comma + 1), where(), name);
+    ++count;
+  }
+  if (count != s.transcription->variables()) {
+    for (int i = 0; i < s.x.size(); ++i)
+      if (std::isnan(s.x[i]))
+        throw SolutionError(file.string() + ": variable '" + names[i] + "' is missing (" + std::to_string(count) +
+                            " of " + std::to_string(s.x.size()) + " given)");
+  }
+  return s;
+}
+
+Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolution& earlier) {
+  const Transcription& src = *earlier.transcription;
+  Eigen::VectorXd x = target.nullSeed();
+  if (src.method() == target.method() && src.variableNames() == target.variableNames()) {
+    x = earlier.x;
+    target.makeConsistent(x);
+    return x;
+  }
+  const int nv = target.problem().scene.model.nv();
+  const int nu = static_cast<int>(target.problem().inputs.size());
+  if (src.problem().scene.model.nv() != nv || static_cast<int>(src.problem().inputs.size()) != nu)
+    throw SolutionError(earlier.file + ": the earlier solution has " + std::to_string(src.problem().scene.model.nv()) +
+                        " coordinates and " + std::to_string(src.problem().inputs.size()) + " inputs, the problem " +
+                        std::to_string(nv) + " and " + std::to_string(nu) + ": it cannot seed this problem");
+  const CollocationTrajectory traj(src, earlier.x);
+  const double T = traj.endTime();
+  double t0 = 0;
+  for (int n = 0; n < target.elements(); ++n) {
+    const ElementLayout& L = target.layout()[n];
+    const double h = std::clamp(T / target.elements(), target.variableLower()[L.h], target.variableUpper()[L.h]);
+    x[L.h] = h;
+    for (std::size_t p = 0; p < L.points.size(); ++p) {
+      const double t = std::min(t0 + h * L.tau[p], T);
+      const bool start = p == 0, end = static_cast<int>(p) == L.end;
+      const TrajectoryPoint e = traj.at(t, end ? Side::Before : Side::After);
+      const auto& pt = L.points[p];
+      x.segment(pt.q, nv) = e.q;
+      x.segment(pt.v, nv) = e.v;
+      if (pt.a >= 0)
+        x.segment(pt.a, nv) = start ? Eigen::VectorXd(e.v - traj.at(t, Side::Before).v) : e.a;  // Δq̇ at [n, 0]
+      if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu) = e.u;
+    }
+    t0 += h;
+  }
+  target.makeConsistent(x);
+  return x;
+}
+
+}  // namespace saltus::collocation
