@@ -70,6 +70,20 @@ struct EquationOfMotion {
     return k;
   }
   int outputs() const { return nv(); }
+  // Affine in q̈ (or Δq̇), u and the tangential variables for fixed q, q̇, r_n; q̇ enters
+  // quadratically (C(q, q̇) q̇), r_n times α_i in the Activation form's μ r_n α_i.
+  bool nonlinear(int i) const {
+    const int n = nv();
+    if (i < n) return true;                      // q
+    if (with_dynamics && i < 2 * n) return true;  // q̇
+    if (friction != FrictionForm::Activation) return false;
+    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
+    for (const ContactPoint& c : *contacts) {
+      if (i == k) return c.k() > 0;  // r_n
+      k += 1 + c.k();
+    }
+    return false;
+  }
 
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -81,9 +95,18 @@ struct EquationOfMotion {
     const S* a = with_dynamics ? x + 2 * n : x + n;
     const S* u = a + n;
     const S* r = u + inputs_count();
-    for (int i = 0; i < n; ++i) y[i] = S(0);
-    // Σ J_cᵀ f_c first: rnea below overwrites the kinematics.
-    dynamics::forwardKinematics(model, data, ConstMap<S>(q, n));
+    // RNEA first: its outward pass leaves ^iX_λ (and S_i(q) of a multi-coordinate joint) in
+    // data, from which the world poses the contact Jacobians need are composed (the pose of
+    // forwardKinematics(q) without evaluating the joint transforms twice).
+    const auto zero = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1>::Zero(n);
+    const auto& tau = with_dynamics ? dynamics::rnea(model, data, ConstMap<S>(q, n), ConstMap<S>(v, n), ConstMap<S>(a, n))
+                                    : dynamics::rnea(model, data, ConstMap<S>(q, n), zero, ConstMap<S>(a, n));
+    for (int i = 0; i < n; ++i) y[i] = tau[i];
+    for (int i = 0; i < model.nbodies(); ++i) {
+      const int p = model.parent[i];
+      data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
+    }
+    // − Σ J_cᵀ f_c.
     PointJacobian<S> J(3, n);
     for (const ContactPoint& c : *contacts) {
       const S& rn = r[0];
@@ -104,10 +127,6 @@ struct EquationOfMotion {
       for (int j = 0; j < n; ++j) y[j] -= J.col(j).dot(f);
       r += 1 + c.k();
     }
-    const auto zero = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1>::Zero(n);
-    const auto& tau = with_dynamics ? dynamics::rnea(model, data, ConstMap<S>(q, n), ConstMap<S>(v, n), ConstMap<S>(a, n))
-                                    : dynamics::rnea(model, data, ConstMap<S>(q, n), zero, ConstMap<S>(a, n));
-    for (int i = 0; i < n; ++i) y[i] += tau[i];
     for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
   }
 };
@@ -120,6 +139,7 @@ struct GapDefinition {
   const std::vector<ContactPoint>* contacts;
   int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
   int outputs() const { return static_cast<int>(contacts->size()); }
+  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; affine in y
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -145,6 +165,11 @@ struct RestitutionBalance {
   const ContactPoint* contact;
   int inputs() const { return 4 * models->model<double>().nv() + 2; }
   int outputs() const { return 1; }
+  // ẏ = n·J_P(q) q̇ is linear in q̇ for fixed q: only the two q's are nonlinear.
+  bool nonlinear(int i) const {
+    const int n = models->model<double>().nv();
+    return i < n || (i >= 2 * n && i < 3 * n);
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -169,6 +194,7 @@ struct SlipSlack {
   FrictionForm friction = FrictionForm::Activation;
   int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
+  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_P = J_P(q) q̇
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -191,6 +217,7 @@ struct Integration {
   Eigen::VectorXd c;
   int inputs() const { return 3 + static_cast<int>(c.size()); }
   int outputs() const { return 1; }
+  bool nonlinear(int i) const { return i == 2; }  // h (times the rates)
   template <class S>
   void operator()(const S* x, S* y) const {
     S sum(0);
@@ -214,6 +241,14 @@ struct Effort {
     y[0] = x[0] * sum;
   }
 };
+
+// The transcription's functors are instantiated once, in functions.cpp (see AdFunction).
+extern template class AdFunction<EquationOfMotion>;
+extern template class AdFunction<GapDefinition>;
+extern template class AdFunction<RestitutionBalance>;
+extern template class AdFunction<SlipSlack>;
+extern template class AdFunction<Integration>;
+extern template class AdFunction<Effort>;
 
 // Σ_i c_i x_i (a linear constraint or cost term; its Hessian is zero).
 class LinearFunction final : public LocalFunction {

@@ -8,14 +8,18 @@
 //   Jacobian: x seeded with Dual<8> directions, ⌈n/8⌉ evaluations.
 //   Hessian of φ = λᵀF: nested duals, the outer one carrying one direction e_i and the inner one
 //   a chunk of 8 directions e_j (j ≤ i), so the outer derivative's inner derivatives are
-//   ∂²φ/∂x_i∂x_j; Σ_i ⌈(i+1)/8⌉ evaluations for the lower triangle.
+//   ∂²φ/∂x_i∂x_j; each pair of the lower triangle once, about ⌈n(n+1)/16⌉ evaluations but at
+//   least one per input. Fewer when the functor names the inputs it is affine in (AdFunction
+//   below): those carry no outer direction.
 #pragma once
 
 #include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>  // after Eigen/Core
 
 #include <algorithm>
+#include <concepts>
 #include <memory>
+#include <vector>
 
 namespace saltus::collocation {
 
@@ -37,63 +41,138 @@ class LocalFunction {
   virtual void hessian(const double* x, const double* lambda, double* H) const = 0;
 };
 
+// A functor may say which of its inputs enter linearly: `bool nonlinear(int i) const` false for
+// the inputs x_L on which F is affine jointly, for fixed values of the others x_N (F = A(x_N) x_L
+// + b(x_N)). Then ∂²F/∂x_a∂x_b = 0 for a, b ∈ L, and the Hessian needs outer directions e_i
+// for i ∈ N only. Without the member every input counts as nonlinear.
+template <class F>
+concept DeclaresLinearInputs = requires(const F& f) {
+  { f.nonlinear(0) } -> std::convertible_to<bool>;
+};
+
 // A LocalFunction from a functor F with `int inputs() const`, `int outputs() const` and
 // `template <class S> void operator()(const S* x, S* y) const`, evaluated for S = double, Dual
-// and Dual2. The work arrays are sized once, here.
+// and Dual2. The work arrays and the Hessian's plan of directions are made once, here; the
+// member functions are defined out of the class so that collocation/functions.cpp can
+// instantiate them for the transcription's functors, in a translation unit compiled with the
+// inlining limits the AD expression templates need (collocation/CMakeLists.txt).
 template <class F>
 class AdFunction final : public LocalFunction {
  public:
-  explicit AdFunction(F f)
-      : f_(std::move(f)), n_(f_.inputs()), m_(f_.outputs()),
-        xd_(n_), yd_(m_), x2_(n_), y2_(m_) {}
+  explicit AdFunction(F f);
 
   int inputs() const override { return n_; }
   int outputs() const override { return m_; }
   const F& functor() const { return f_; }
 
-  void value(const double* x, double* y) const override { f_(x, y); }
+  void value(const double* x, double* y) const override;
+  void jacobian(const double* x, double* J) const override;
+  void hessian(const double* x, const double* lambda, double* H) const override;
 
-  void jacobian(const double* x, double* J) const override {
-    for (int first = 0; first < n_; first += kChunk) {
-      for (int i = 0; i < n_; ++i) {
-        xd_[i].value() = x[i];
-        xd_[i].derivatives().setZero();
-        if (i >= first && i < first + kChunk) xd_[i].derivatives()[i - first] = 1.0;
-      }
-      f_(xd_.data(), yd_.data());
-      const int cols = std::min(kChunk, n_ - first);
-      for (int r = 0; r < m_; ++r)
-        for (int c = 0; c < cols; ++c) J[r + (first + c) * m_] = yd_[r].derivatives()[c];
-    }
-  }
-
-  void hessian(const double* x, const double* lambda, double* H) const override {
-    for (int i = 0; i < n_; ++i) {
-      for (int first = 0; first <= i; first += kChunk) {
-        for (int k = 0; k < n_; ++k) {
-          Dual inner(x[k], Eigen::Matrix<double, kChunk, 1>::Zero());
-          if (k >= first && k < first + kChunk) inner.derivatives()[k - first] = 1.0;
-          x2_[k].value() = inner;
-          x2_[k].derivatives()[0] = Dual(k == i ? 1.0 : 0.0, Eigen::Matrix<double, kChunk, 1>::Zero());
-        }
-        f_(x2_.data(), y2_.data());
-        const int cols = std::min({kChunk, n_ - first, i + 1 - first});
-        for (int c = 0; c < cols; ++c) {
-          double s = 0;
-          for (int r = 0; r < m_; ++r)
-            if (lambda[r] != 0.0) s += lambda[r] * y2_[r].derivatives()[0].derivatives()[c];
-          H[i + (first + c) * n_] = s;
-        }
-      }
-    }
-  }
+  // The Hessian's forward-over-forward evaluations: one per nonlinear input while its row of
+  // pairs fits a chunk (tests).
+  int hessianSweeps() const { return static_cast<int>(sweeps_.size()); }
 
  private:
+  // One evaluation in Dual2: the outer direction e_outer, inner directions e_inner[0..count).
+  struct Sweep {
+    int outer = 0, count = 0;
+    int inner[kChunk] = {};
+  };
+
   F f_;
   int n_, m_;
+  std::vector<Sweep> sweeps_;
+  std::vector<int> linear_;  // the inputs in L (their pairs are zero in H)
   mutable Eigen::Matrix<Dual, Eigen::Dynamic, 1> xd_, yd_;
   mutable Eigen::Matrix<Dual2, Eigen::Dynamic, 1> x2_, y2_;
 };
+
+template <class F>
+AdFunction<F>::AdFunction(F f)
+    : f_(std::move(f)), n_(f_.inputs()), m_(f_.outputs()), xd_(n_), yd_(m_), x2_(n_), y2_(m_) {
+  std::vector<bool> nonlinear(n_, true);
+  if constexpr (DeclaresLinearInputs<F>)
+    for (int i = 0; i < n_; ++i) nonlinear[i] = f_.nonlinear(i);
+  for (int i = 0; i < n_; ++i)
+    if (!nonlinear[i]) linear_.push_back(i);
+  // The pairs (i, j) of H to compute, each once, grouped by outer direction: a row i ∈ N holds
+  // its diagonal and (i, j) for every j ∈ L (only e_i can carry those: L has no outer
+  // directions); each pair of two nonlinear inputs goes to the row of either, whichever has room
+  // left in its last chunk of 8 (the shorter row when both or neither have). The pairs within L
+  // are zero.
+  std::vector<std::vector<int>> rows(n_);
+  for (int i = 0; i < n_; ++i) {
+    if (!nonlinear[i]) continue;
+    rows[i].push_back(i);
+    rows[i].insert(rows[i].end(), linear_.begin(), linear_.end());
+  }
+  // The pairs go by distance from the diagonal, which keeps the rows even (nine nonlinear
+  // inputs: nine sweeps; by rows, the last ones overflow into a tenth).
+  auto spare = [](const std::vector<int>& row) { return row.size() % kChunk != 0; };
+  for (int d = 1; d < n_; ++d)
+    for (int i = d; i < n_; ++i) {
+      const int j = i - d;
+      if (!nonlinear[i] || !nonlinear[j]) continue;
+      const bool to_i = spare(rows[i]) != spare(rows[j]) ? spare(rows[i]) : rows[i].size() <= rows[j].size();
+      if (to_i)
+        rows[i].push_back(j);
+      else
+        rows[j].push_back(i);
+    }
+  for (int i = 0; i < n_; ++i)
+    for (std::size_t first = 0; first < rows[i].size(); first += kChunk) {
+      Sweep sweep;
+      sweep.outer = i;
+      sweep.count = static_cast<int>(std::min<std::size_t>(kChunk, rows[i].size() - first));
+      std::copy_n(rows[i].begin() + static_cast<std::ptrdiff_t>(first), sweep.count, sweep.inner);
+      sweeps_.push_back(sweep);
+    }
+}
+
+template <class F>
+void AdFunction<F>::value(const double* x, double* y) const {
+  f_(x, y);
+}
+
+template <class F>
+void AdFunction<F>::jacobian(const double* x, double* J) const {
+  for (int first = 0; first < n_; first += kChunk) {
+    for (int i = 0; i < n_; ++i) {
+      xd_[i].value() = x[i];
+      xd_[i].derivatives().setZero();
+      if (i >= first && i < first + kChunk) xd_[i].derivatives()[i - first] = 1.0;
+    }
+    f_(xd_.data(), yd_.data());
+    const int cols = std::min(kChunk, n_ - first);
+    for (int r = 0; r < m_; ++r)
+      for (int c = 0; c < cols; ++c) J[r + (first + c) * m_] = yd_[r].derivatives()[c];
+  }
+}
+
+template <class F>
+void AdFunction<F>::hessian(const double* x, const double* lambda, double* H) const {
+  // Nested duals: the outer one carries e_i, the inner one the sweep's e_j; the outer
+  // derivative's inner derivatives are ∂²y_r/∂x_i∂x_j, summed with the weights λ_r.
+  for (const Sweep& sweep : sweeps_) {
+    for (int k = 0; k < n_; ++k) {
+      x2_[k].value() = Dual(x[k], Eigen::Matrix<double, kChunk, 1>::Zero());
+      x2_[k].derivatives()[0] = Dual(k == sweep.outer ? 1.0 : 0.0, Eigen::Matrix<double, kChunk, 1>::Zero());
+    }
+    for (int c = 0; c < sweep.count; ++c) x2_[sweep.inner[c]].value().derivatives()[c] = 1.0;
+    f_(x2_.data(), y2_.data());
+    for (int c = 0; c < sweep.count; ++c) {
+      double s = 0;
+      for (int r = 0; r < m_; ++r)
+        if (lambda[r] != 0.0) s += lambda[r] * y2_[r].derivatives()[0].derivatives()[c];
+      const int i = sweep.outer, j = sweep.inner[c];
+      H[std::max(i, j) + std::min(i, j) * n_] = s;
+    }
+  }
+  for (int b : linear_)
+    for (int a : linear_)
+      if (a >= b) H[a + b * n_] = 0.0;
+}
 
 template <class F>
 std::unique_ptr<LocalFunction> makeAd(F f) {

@@ -1,0 +1,177 @@
+// AD of the local functions (collocation/local_function.hpp): the Hessian of λᵀF with the inputs
+// a functor declares linear (no outer directions for them) against an analytic Hessian, and, for
+// every functor of the transcription (collocation/functions.hpp), against the same functor with
+// every input taken as nonlinear: a wrong linearity claim shows as a missing second derivative.
+#include "collocation/local_function.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "collocation/functions.hpp"
+#include "collocation/nlp.hpp"
+#include "collocation/transcription.hpp"
+#include "tests/support/problems.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+// y0 = sin(x0) x2 + x1² x3,  y1 = x0 x1 + 3 x2 − x4: affine in (x2, x3, x4) for fixed x0, x1.
+struct Toy {
+  bool declare = true;
+  int inputs() const { return 5; }
+  int outputs() const { return 2; }
+  bool nonlinear(int i) const { return !declare || i < 2; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    using std::sin;
+    y[0] = sin(x[0]) * x[2] + x[1] * x[1] * x[3];
+    y[1] = x[0] * x[1] + S(3) * x[2] - x[4];
+  }
+};
+
+// The functor F with the linearity declaration hidden.
+template <class F>
+struct AllNonlinear {
+  F f;
+  int inputs() const { return f.inputs(); }
+  int outputs() const { return f.outputs(); }
+  template <class S>
+  void operator()(const S* x, S* y) const { f(x, y); }
+};
+
+Eigen::MatrixXd lowerHessian(const LocalFunction& f, const Eigen::VectorXd& x, const Eigen::VectorXd& lambda) {
+  Eigen::MatrixXd H = Eigen::MatrixXd::Constant(f.inputs(), f.inputs(), 1234.0);  // the upper triangle stays
+  f.hessian(x.data(), lambda.data(), H.data());
+  return H.triangularView<Eigen::Lower>();
+}
+
+TEST(AdFunction, LinearInputsHaveNoOuterDirections) {
+  const AdFunction<Toy> declared(Toy{true}), full(Toy{false});
+  EXPECT_EQ(full.hessianSweeps(), 5);      // one per input
+  EXPECT_EQ(declared.hessianSweeps(), 2);  // x0, x1 only
+  const Eigen::VectorXd x = (Eigen::VectorXd(5) << 0.3, -1.2, 0.7, 2.1, -0.4).finished();
+  const Eigen::VectorXd lambda = Eigen::Vector2d(0.8, -1.5);
+  // Analytic lower triangle of λ0 ∇²y0 + λ1 ∇²y1.
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(5, 5);
+  H(0, 0) = -lambda[0] * std::sin(x[0]) * x[2];
+  H(1, 1) = 2 * lambda[0] * x[3];
+  H(1, 0) = lambda[1];
+  H(2, 0) = lambda[0] * std::cos(x[0]);
+  H(3, 1) = 2 * lambda[0] * x[1];
+  EXPECT_LT((lowerHessian(declared, x, lambda) - H).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((lowerHessian(full, x, lambda) - H).cwiseAbs().maxCoeff(), 1e-14);
+  // The pairs within L are written (zero), not left as they were.
+  Eigen::MatrixXd raw = Eigen::MatrixXd::Constant(5, 5, 7.0);
+  declared.hessian(x.data(), lambda.data(), raw.data());
+  EXPECT_EQ(raw(4, 2), 0.0);
+  EXPECT_EQ(raw(3, 3), 0.0);
+  EXPECT_EQ(raw(2, 4), 7.0);  // upper triangle untouched
+}
+
+// Σ_{j≤i} (1 + i + 10 j) x_i x_j over nine inputs, all nonlinear: 45 pairs.
+struct Nine {
+  int inputs() const { return 9; }
+  int outputs() const { return 1; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    S s(0);
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j <= i; ++j) s += S(1.0 + i + 10.0 * j) * x[i] * x[j];
+    y[0] = s;
+  }
+};
+
+TEST(AdFunction, SweepsHoldEveryPairOnce) {
+  // At least one sweep per input (its diagonal), none over 8 pairs: 45 pairs fit nine.
+  const AdFunction<Nine> f(Nine{});
+  EXPECT_EQ(f.hessianSweeps(), 9);
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, -1, 1), lambda = Eigen::VectorXd::Constant(1, 0.5);
+  const Eigen::MatrixXd H = lowerHessian(f, x, lambda);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j <= i; ++j) EXPECT_DOUBLE_EQ(H(i, j), 0.5 * (1.0 + i + 10.0 * j) * (i == j ? 2 : 1)) << i << "," << j;
+}
+
+// Every AD constraint block of a transcription: declared-linear Hessian = all-nonlinear Hessian,
+// with fewer sweeps (Effort, a cost term inside a ScaledFunction, declares nothing).
+template <class F>
+bool compareIfIs(const LocalFunction& f, const Eigen::VectorXd& x, const Eigen::VectorXd& lambda, std::set<std::string>& seen,
+                 const char* name) {
+  const auto* ad = dynamic_cast<const AdFunction<F>*>(&f);
+  if (!ad) return false;
+  const AdFunction<AllNonlinear<F>> full(AllNonlinear<F>{ad->functor()});
+  const Eigen::MatrixXd H = lowerHessian(*ad, x, lambda), Hfull = lowerHessian(full, x, lambda);
+  EXPECT_LT((H - Hfull).cwiseAbs().maxCoeff(), 1e-12 * (1 + Hfull.cwiseAbs().maxCoeff())) << name;
+  EXPECT_LE(ad->hessianSweeps(), full.hessianSweeps()) << name;
+  if (seen.insert(name).second)
+    EXPECT_LT(ad->hessianSweeps(), full.hessianSweeps()) << name;
+  return true;
+}
+
+void checkDeclaredLinearity(const Problem& p, Method method, int expected_kinds) {
+  const Transcription t(p, method);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::set<std::string> seen;
+  for (const Block& b : t.blocks()) {
+    const LocalFunction& f = *b.f;
+    Eigen::VectorXd x(f.inputs()), lambda(f.outputs());
+    for (int i = 0; i < x.size(); ++i) x[i] = U(rng);
+    for (int r = 0; r < lambda.size(); ++r) lambda[r] = U(rng);
+    compareIfIs<EquationOfMotion>(f, x, lambda, seen, "eom") || compareIfIs<GapDefinition>(f, x, lambda, seen, "gap") ||
+        compareIfIs<RestitutionBalance>(f, x, lambda, seen, "restitution") ||
+        compareIfIs<SlipSlack>(f, x, lambda, seen, "slip") || compareIfIs<Integration>(f, x, lambda, seen, "integration");
+  }
+  EXPECT_EQ(static_cast<int>(seen.size()), expected_kinds) << toString(method);
+}
+
+Problem conveyorWithInput() {
+  Problem p = testing::pendulumConveyor();
+  p.N = 2;
+  p.P = 2;
+  p.inputs = {0};
+  p.cost.effort_weight = 0.3;
+  return p;
+}
+
+TEST(AdFunction, DeclaredLinearInputsConveyor) {
+  checkDeclaredLinearity(conveyorWithInput(), Method::Impulsive, 5);   // eom, gap, restitution, slip, integration
+  checkDeclaredLinearity(conveyorWithInput(), Method::FirstOrder, 4);  // no restitution
+}
+TEST(AdFunction, DeclaredLinearInputsPointMass) {
+  checkDeclaredLinearity(testing::pointMassDrop(0.5, 0.1, 2, 2), Method::Impulsive, 4);  // eom, gap, restitution, integration
+}
+
+// The NLP's Hessian of the Lagrangian with multipliers on one EOM block only is that block's
+// local Hessian scattered to its variables; with every multiplier and σ zero it is zero.
+TEST(NlpHessian, OneBlockAndZeroMultipliers) {
+  const Problem p = conveyorWithInput();
+  const Transcription t(p, Method::Impulsive);
+  Nlp nlp(t, Stage::Feasibility, t.nullSeed());
+  Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.2, 3);
+  EXPECT_EQ(nlp.hessian(x, 0.0, Eigen::VectorXd::Zero(t.constraints())).cwiseAbs().maxCoeff(), 0.0);
+  int index = -1;
+  for (std::size_t i = 0; i < t.blocks().size(); ++i)
+    if (dynamic_cast<const AdFunction<EquationOfMotion>*>(t.blocks()[i].f.get()) && t.blocks()[i].row >= 0)
+      index = static_cast<int>(i);
+  ASSERT_GE(index, 0);
+  const Block& b = t.blocks()[index];
+  const int n = b.f->inputs();
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(t.constraints()), local_l(b.f->outputs()), local_x(n);
+  for (int r = 0; r < b.f->outputs(); ++r) lambda[b.row + r] = local_l[r] = 0.5 + r;
+  for (int i = 0; i < n; ++i) local_x[i] = x[b.vars[i]];
+  const Eigen::MatrixXd Hl = lowerHessian(*b.f, local_x, local_l);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(t.variables(), t.variables());
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i) {
+      expected(b.vars[i], b.vars[j]) += Hl(i, j);
+      if (i != j) expected(b.vars[j], b.vars[i]) += Hl(i, j);
+    }
+  const Eigen::MatrixXd H = nlp.hessian(x, 0.0, lambda);  // feasibility stage: the penalty is linear
+  EXPECT_LT((H - expected).cwiseAbs().maxCoeff(), 1e-13 * (1 + expected.cwiseAbs().maxCoeff()));
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
+}
+
+}  // namespace
+}  // namespace saltus::collocation
