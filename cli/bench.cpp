@@ -10,6 +10,13 @@
 //                   lcp_failure, nan, energy_gain or penetration. DIR/stability.csv and a grid
 //                   chart DIR/stability.png/.svg.
 //
+//   per-step        ns per step of both engines at one dt on several built-in scenes (interleaved
+//                   rounds, fastest kept), their ratio and errors; CSV on standard output.
+//
+// --engine saltus|bullet|both: the saltus time-stepper and/or Bullet's btMultiBodyDynamicsWorld
+// built from the same scene (verify/bullet_world.hpp, tuned settings); rows carry an `engine`
+// column. Default saltus (Bullet only on request: its runs cost 2.5–8× more per step).
+//
 // Charts are drawn by scripts/charts.py (python3 + matplotlib); when that fails the command
 // says so and exits 1, with the CSV written.
 #include <algorithm>
