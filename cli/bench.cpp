@@ -10,6 +10,13 @@
 //                   lcp_failure, nan, energy_gain or penetration. DIR/stability.csv and a grid
 //                   chart DIR/stability.png/.svg.
 //
+//   per-step        ns per step of both engines at one dt on several built-in scenes (interleaved
+//                   rounds, fastest kept), their ratio and errors; CSV on standard output.
+//
+// --engine saltus|bullet|both: the saltus time-stepper and/or Bullet's btMultiBodyDynamicsWorld
+// built from the same scene (verify/bullet_world.hpp, tuned settings); rows carry an `engine`
+// column. Default saltus (Bullet only on request: its runs cost 2.5–8× more per step).
+//
 // Charts are drawn by scripts/charts.py (python3 + matplotlib); when that fails the command
 // says so and exits 1, with the CSV written.
 #include <algorithm>
@@ -26,6 +33,7 @@
 #include "cli/simulation.hpp"
 #include "timestepper/analytic.hpp"
 #include "scene/scenario.hpp"
+#include "verify/bullet_world.hpp"
 
 namespace saltus::cli {
 
@@ -38,6 +46,8 @@ namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct BenchOptions {
+  std::string engine = "saltus";
+  std::string bullet_solver = "dantzig";
   std::string scene;
   std::vector<std::string> set;
   std::string solver = "lemke";
@@ -90,6 +100,111 @@ StepperOptions stepperOptions(double dt, double theta, LcpMethod solver) {
   return o;
 }
 
+// ---------------------------------------------------------------------------------------------
+// engines: the saltus time-stepper and Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp)
+
+enum class Engine { Saltus, Bullet };
+const char* engineName(Engine e) { return e == Engine::Saltus ? "saltus" : "bullet"; }
+
+std::vector<Engine> parseEngines(const std::string& value) {
+  if (value == "saltus") return {Engine::Saltus};
+  if (value == "bullet") return {Engine::Bullet};
+  if (value == "both") return {Engine::Saltus, Engine::Bullet};
+  throw UsageError("--engine: expected saltus, bullet or both, got '" + value + "'");
+}
+
+verify::BulletSolver parseBulletSolverOption(const std::string& value) {
+  try {
+    return verify::parseBulletSolver(value);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--bullet-solver: ") + e.what());
+  }
+}
+
+// How one engine is set up for a run: the stepper options (saltus) or the world options (Bullet).
+struct EngineSetup {
+  Engine engine = Engine::Saltus;
+  StepperOptions saltus;
+  verify::BulletWorldOptions bullet;
+  std::string describe() const {
+    if (engine == Engine::Saltus)
+      return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver);
+    return std::string("bullet: btMultiBodyDynamicsWorld, ") + verify::bulletSolverName(bullet.solver) +
+           ", erp2 " + formatNumber(bullet.erp2) + ", restitution threshold " +
+           formatNumber(bullet.restitution_threshold) + " m/s, contact sphere radius " +
+           formatNumber(bullet.contact_radius) + " m, cfm " + formatNumber(bullet.global_cfm);
+  }
+};
+
+EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver) {
+  EngineSetup e;
+  e.engine = engine;
+  e.saltus = stepperOptions(dt, theta, solver);
+  e.bullet.dt = dt;
+  e.bullet.solver = bullet_solver;
+  return e;
+}
+
+// The common face of both engines for the bench loops.
+class Sim {
+ public:
+  virtual ~Sim() = default;
+  // Throws SimulationError (saltus: LCP failure or non-finite state; Bullet: non-finite state).
+  virtual void step() = 0;
+  virtual const Eigen::VectorXd& q() const = 0;
+  virtual const Eigen::VectorXd& v() const = 0;
+  virtual double time() const = 0;
+  virtual double energy() = 0;
+  virtual double firstContactImpulse() const = 0;
+  virtual long steps() const = 0;
+  virtual long failures() const = 0;  // LCP failures (saltus) / MLCP fallbacks (Bullet)
+  virtual double maxPenetration() const = 0;
+};
+
+class SaltusSim final : public Sim {
+ public:
+  SaltusSim(const Scene& scene, const StepperOptions& o) : s_(scene, o) {}
+  void step() override { s_.step(); }
+  const Eigen::VectorXd& q() const override { return s_.q(); }
+  const Eigen::VectorXd& v() const override { return s_.v(); }
+  double time() const override { return s_.time(); }
+  double energy() override { return s_.energy(); }
+  double firstContactImpulse() const override { return s_.contacts().empty() ? 0.0 : s_.contacts()[0].pn; }
+  long steps() const override { return s_.stats().steps; }
+  long failures() const override { return s_.stats().lcp_failures; }
+  double maxPenetration() const override { return s_.stats().max_penetration; }
+
+ private:
+  TimeStepper s_;
+};
+
+class BulletSim final : public Sim {
+ public:
+  BulletSim(const Scene& scene, const verify::BulletWorldOptions& o) : w_(scene, o) {}
+  void step() override {
+    w_.step();
+    if (!w_.q().allFinite() || !w_.v().allFinite())
+      throw SimulationError("Bullet: the state is not finite at t = " + formatNumber(w_.time()) + " s", w_.time(), {},
+                            kNaN);
+  }
+  const Eigen::VectorXd& q() const override { return w_.q(); }
+  const Eigen::VectorXd& v() const override { return w_.v(); }
+  double time() const override { return w_.time(); }
+  double energy() override { return w_.energy(); }
+  double firstContactImpulse() const override { return w_.contacts().empty() ? 0.0 : w_.contacts()[0].pn; }
+  long steps() const override { return w_.stats().steps; }
+  long failures() const override { return w_.stats().mlcp_fallbacks; }
+  double maxPenetration() const override { return w_.stats().max_penetration; }
+
+ private:
+  verify::BulletWorld w_;
+};
+
+std::unique_ptr<Sim> makeSim(const Scene& scene, const EngineSetup& e) {
+  if (e.engine == Engine::Saltus) return std::make_unique<SaltusSim>(scene, e.saltus);
+  return std::make_unique<BulletSim>(scene, e.bullet);
+}
+
 fs::path prepareOutputDirectory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -127,37 +242,38 @@ struct ErrorModel {
 struct RecordedRun {
   bool failed = false;
   std::string message;
-  StepperStats stats;
+  long steps = 0, failures = 0;
   double t_end = 0;
   Eigen::VectorXd x_end;         // [q; v] at the end
   std::vector<double> z, pn;     // BallApex: height and normal impulse after every step
 };
 
-RecordedRun recordRun(const Scene& scene, const StepperOptions& options, long steps, bool keep_bounce) {
+RecordedRun recordRun(const Scene& scene, const EngineSetup& setup, long steps, bool keep_bounce) {
   RecordedRun r;
-  TimeStepper stepper(scene, options);
+  const std::unique_ptr<Sim> sim = makeSim(scene, setup);
   if (keep_bounce) {
     r.z.reserve(static_cast<std::size_t>(steps) + 1);
     r.pn.reserve(static_cast<std::size_t>(steps) + 1);
-    r.z.push_back(stepper.q()[0]);
+    r.z.push_back(sim->q()[0]);
     r.pn.push_back(0);
   }
   try {
     for (long i = 0; i < steps; ++i) {
-      stepper.step();
+      sim->step();
       if (keep_bounce) {
-        r.z.push_back(stepper.q()[0]);
-        r.pn.push_back(stepper.contacts()[0].pn);
+        r.z.push_back(sim->q()[0]);
+        r.pn.push_back(sim->firstContactImpulse());
       }
     }
   } catch (const SimulationError& e) {
     r.failed = true;
     r.message = e.what();
   }
-  r.stats = stepper.stats();
-  r.t_end = stepper.time();
-  r.x_end.resize(stepper.q().size() + stepper.v().size());
-  r.x_end << stepper.q(), stepper.v();
+  r.steps = sim->steps();
+  r.failures = sim->failures();
+  r.t_end = sim->time();
+  r.x_end.resize(sim->q().size() + sim->v().size());
+  r.x_end << sim->q(), sim->v();
   return r;
 }
 
@@ -258,12 +374,13 @@ struct Timing {
 
 // Runs `steps` steps repeatedly (at least once, until min_time CPU seconds have been spent) and
 // keeps the fastest wall and CPU time of a run. Only stepping is timed.
-Timing timeRuns(const Scene& scene, const StepperOptions& options, long steps, double min_time) {
+Timing timeRuns(const Scene& scene, const EngineSetup& setup, long steps, double min_time) {
   Timing timing;
   timing.wall = timing.cpu = std::numeric_limits<double>::infinity();
   double spent = 0;
   do {
-    TimeStepper stepper(scene, options);
+    const std::unique_ptr<Sim> sim = makeSim(scene, setup);
+    Sim& stepper = *sim;
     const double cpu0 = cpuSeconds();
     const auto wall0 = std::chrono::steady_clock::now();
     for (long i = 0; i < steps; ++i) stepper.step();
@@ -280,6 +397,8 @@ Timing timeRuns(const Scene& scene, const StepperOptions& options, long steps, d
 int workPrecision(const WorkPrecisionOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
+  const std::vector<Engine> engines = parseEngines(opt.engine);
+  const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
   std::sort(dts.begin(), dts.end(), std::greater<>());
   dts.erase(std::unique(dts.begin(), dts.end()), dts.end());
@@ -296,35 +415,45 @@ int workPrecision(const WorkPrecisionOptions& opt) {
   std::ostringstream csv;
   csv << "# saltus bench work-precision\n"
       << "# scene: " << scene.name << " (" << scene.source << "); parameters: " << parameterList(scene) << "\n"
-      << "# method: theta " << formatNumber(opt.theta) << ", solver " << solverName(solver) << ", duration "
-      << formatNumber(duration) << " s\n"
-      << "# error: " << model.description << "\n"
+      << "# method: ";
+  for (std::size_t i = 0; i < engines.size(); ++i)
+    csv << (i ? "; " : "") << engineSetup(engines[i], dts[0], opt.theta, solver, bullet_solver).describe();
+  csv << ", duration " << formatNumber(duration) << " s\n";
+  if (std::find(engines.begin(), engines.end(), Engine::Bullet) != engines.end()) {
+    const verify::BulletWorld probe(scene, engineSetup(Engine::Bullet, dts[0], opt.theta, solver, bullet_solver).bullet);
+    for (const std::string& a : probe.approximations()) csv << "# bullet approximation: " << a << "\n";
+  }
+  csv << "# error: " << model.description << "\n"
       << "# timing: stepping only (no I/O), fastest of repeated runs (at least " << formatNumber(opt.min_time)
       << " s CPU per dt); cpu_seconds_per_simulated_second from CLOCK_PROCESS_CPUTIME_ID, ns_per_step from "
          "steady_clock\n"
-      << "dt,error,cpu_seconds_per_simulated_second,ns_per_step,steps,lcp_failures\n";
+      << "# solver_failures: saltus LCP failures; bullet MLCP solves that fell back to sequential impulse\n"
+      << "engine,dt,error,cpu_seconds_per_simulated_second,ns_per_step,steps,solver_failures\n";
   bool any_failed = false;
-  for (double dt : dts) {
-    const StepperOptions options = stepperOptions(dt, opt.theta, solver);
-    const long steps = stepCount(duration, dt);
-    const RecordedRun run = recordRun(scene, options, steps, model.kind == ErrorModel::BallApex);
-    const double error = runError(model, run);
-    Timing timing;
-    if (!run.failed) timing = timeRuns(scene, options, steps, opt.min_time);
-    const double simulated = steps * dt;
-    const double cpu_per_s = timing.cpu / simulated, ns_per_step = timing.wall * 1e9 / steps;
-    csv << formatNumber(dt, 10) << "," << formatNumber(error, 8) << "," << formatNumber(cpu_per_s, 6) << ","
-        << formatNumber(ns_per_step, 6) << "," << run.stats.steps << "," << run.stats.lcp_failures << "\n";
-    std::cerr << "work-precision: " << scene.name << " dt " << formatNumber(dt) << ": ";
-    if (run.failed) {
-      any_failed = true;
-      std::cerr << "FAILED after " << run.stats.steps << " steps: " << run.message << "\n";
-    } else {
-      std::cerr << "error " << formatNumber(error, 4) << ", " << formatNumber(cpu_per_s, 4)
-                << " CPU s per simulated s, " << formatNumber(ns_per_step, 4) << " ns per step (" << steps
-                << " steps, best of " << timing.repetitions << ")\n";
+  for (Engine engine : engines)
+    for (double dt : dts) {
+      const EngineSetup setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver);
+      const long steps = stepCount(duration, dt);
+      const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
+      const double error = runError(model, run);
+      Timing timing;
+      if (!run.failed) timing = timeRuns(scene, setup, steps, opt.min_time);
+      const double simulated = steps * dt;
+      const double cpu_per_s = timing.cpu / simulated, ns_per_step = timing.wall * 1e9 / steps;
+      csv << engineName(engine) << "," << formatNumber(dt, 10) << "," << formatNumber(error, 8) << ","
+          << formatNumber(cpu_per_s, 6) << "," << formatNumber(ns_per_step, 6) << "," << run.steps << ","
+          << run.failures << "\n";
+      std::cerr << "work-precision: " << scene.name << " " << engineName(engine) << " dt " << formatNumber(dt) << ": ";
+      if (run.failed) {
+        any_failed = true;
+        std::cerr << "FAILED after " << run.steps << " steps: " << run.message << "\n";
+      } else {
+        std::cerr << "error " << formatNumber(error, 4) << ", " << formatNumber(cpu_per_s, 4)
+                  << " CPU s per simulated s, " << formatNumber(ns_per_step, 4) << " ns per step (" << steps
+                  << " steps, best of " << timing.repetitions << ")"
+                  << (run.failures ? ", " + std::to_string(run.failures) + " solver failures" : std::string()) << "\n";
+      }
     }
-  }
   const fs::path csv_path = dir / "work_precision.csv";
   writeFileAtomically(csv_path.string(), csv.str());
   std::cerr << "work-precision: wrote " << csv_path.string() << (any_failed ? " (some runs failed: error nan)" : "")
@@ -332,6 +461,66 @@ int workPrecision(const WorkPrecisionOptions& opt) {
   drawCharts("work-precision", csv_path, dir / "work_precision.png", dir / "work_precision.svg");
   std::cerr << "work-precision: wrote " << (dir / "work_precision.png").string() << ", "
             << (dir / "work_precision.svg").string() << std::endl;
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// per-step: the cost of one step of each engine at the same dt on several scenes, and their errors
+
+struct PerStepOptions {
+  std::string scenes = "ball_drop,block_slide,pendulum_conveyor";
+  double dt = 1e-3;
+  int repeat = 5;
+  double min_time = 0.2;
+  std::string solver = "lemke";
+  std::string bullet_solver = "dantzig";
+  double theta = 1.0;
+};
+
+int perStep(const PerStepOptions& opt) {
+  checkStepOptions("--dt", opt.dt, opt.theta);
+  const LcpMethod solver = parseSolverOption(opt.solver);
+  const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
+  if (opt.repeat < 1) throw UsageError("--repeat: expected a positive count");
+  if (!(opt.min_time >= 0) || !std::isfinite(opt.min_time))
+    throw UsageError("--min-time: expected a non-negative number of seconds");
+  std::vector<std::string> names;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = opt.scenes.find(',', start);
+    names.push_back(opt.scenes.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  std::cout << "# saltus bench per-step: dt " << formatNumber(opt.dt) << " s; ns per step = fastest of " << opt.repeat
+            << " rounds (each the fastest run of at least " << formatNumber(opt.min_time)
+            << " s CPU), the engines interleaved; error as in work-precision\n"
+            << "# saltus: theta " << formatNumber(opt.theta) << ", " << solverName(solver) << "; bullet: "
+            << verify::bulletSolverName(bullet_solver) << ", tuned settings (verify/bullet_world.hpp)\n"
+            << "scene,saltus_ns_per_step,bullet_ns_per_step,bullet_over_saltus,saltus_error,bullet_error,"
+               "saltus_failures,bullet_failures\n";
+  for (const std::string& name : names) {
+    const Scene scene = loadScene(name);
+    const long steps = stepCount(scene.duration, opt.dt);
+    ErrorModel model = makeErrorModel(scene, {opt.dt}, scene.duration, solver);
+    double ns[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    double error[2] = {kNaN, kNaN};
+    long failures[2] = {0, 0};
+    for (int e = 0; e < 2; ++e) {
+      const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver);
+      const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
+      error[e] = runError(model, run);
+      failures[e] = run.failures;
+      if (run.failed) throw std::runtime_error(name + ": the " + engineName(setup.engine) + " run failed: " + run.message);
+    }
+    for (int round = 0; round < opt.repeat; ++round)
+      for (int e = 0; e < 2; ++e) {
+        const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver);
+        ns[e] = std::min(ns[e], timeRuns(scene, setup, steps, opt.min_time).wall * 1e9 / steps);
+      }
+    std::cout << scene.name << "," << formatNumber(ns[0], 5) << "," << formatNumber(ns[1], 5) << ","
+              << formatNumber(ns[1] / ns[0], 3) << "," << formatNumber(error[0], 5) << "," << formatNumber(error[1], 5)
+              << "," << failures[0] << "," << failures[1] << std::endl;
+  }
   return 0;
 }
 
@@ -348,9 +537,10 @@ struct StabilityRun {
 constexpr double kEnergyTolerance = 1e-9;    // relative rise of the energy above E_0
 constexpr double kPenetrationLimit = 1e-3;   // [m]
 
-StabilityRun stabilityRun(const Scene& scene, const StepperOptions& options, long steps, bool exempt) {
+StabilityRun stabilityRun(const Scene& scene, const EngineSetup& setup, long steps, bool exempt) {
   StabilityRun r;
-  TimeStepper stepper(scene, options);
+  const std::unique_ptr<Sim> sim = makeSim(scene, setup);
+  Sim& stepper = *sim;
   const double e0 = stepper.energy();
   const double scale = e0 != 0 ? std::abs(e0) : 1.0;
   try {
@@ -370,9 +560,9 @@ StabilityRun stabilityRun(const Scene& scene, const StepperOptions& options, lon
     r.outcome = !finite ? "nan" : what.find("LCP") != std::string::npos ? "lcp_failure" : "error";
     r.message = what;
   }
-  r.steps = stepper.stats().steps;
+  r.steps = stepper.steps();
   r.t_end = stepper.time();
-  r.max_penetration = stepper.stats().max_penetration;
+  r.max_penetration = stepper.maxPenetration();
   if (r.outcome == "ok") {
     if (r.max_penetration > kPenetrationLimit) {
       r.outcome = "penetration";
@@ -380,6 +570,9 @@ StabilityRun stabilityRun(const Scene& scene, const StepperOptions& options, lon
     } else if (!exempt && r.energy_gain > kEnergyTolerance) {
       r.outcome = "energy_gain";
       r.message = "energy rose above E_0 by " + formatNumber(r.energy_gain, 4) + " (relative)";
+    } else if (setup.engine == Engine::Bullet && stepper.failures() > 0) {
+      r.outcome = "solver_fallback";
+      r.message = std::to_string(stepper.failures()) + " MLCP solves fell back to sequential impulse";
     }
   }
   return r;
@@ -388,6 +581,8 @@ StabilityRun stabilityRun(const Scene& scene, const StepperOptions& options, lon
 int stability(const StabilityOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
+  const std::vector<Engine> engines = parseEngines(opt.engine);
+  const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
   std::sort(dts.begin(), dts.end());
   dts.erase(std::unique(dts.begin(), dts.end()), dts.end());
@@ -420,18 +615,22 @@ int stability(const StabilityOptions& opt) {
   std::ostringstream csv;
   csv << "# saltus bench stability\n"
       << "# scene: " << base.name << " (" << base.source << "); parameters: " << parameterList(base) << "\n"
-      << "# method: theta " << formatNumber(opt.theta) << ", solver " << solverName(solver) << ", duration "
-      << formatNumber(duration) << " s\n"
+      << "# method: ";
+  for (std::size_t i = 0; i < engines.size(); ++i)
+    csv << (i ? "; " : "") << engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver).describe();
+  csv << ", duration " << formatNumber(duration) << " s\n"
       << "# grid: dt x " << (frictions.empty() ? "" : "friction x ") << (restitutions.empty() ? "" : "restitution x ")
       << "(empty column: the scene has no such parameter)\n"
       << "# outcome: ok | lcp_failure (SimulationError from the LCP solver) | nan (state not finite) | error (other "
-         "SimulationError) | penetration (largest penetration > "
+         "SimulationError) | solver_fallback (bullet: ok but MLCP solves fell back to sequential impulse) | "
+         "penetration (largest penetration > "
       << formatNumber(kPenetrationLimit) << " m) | energy_gain (energy above E_0 by more than "
       << formatNumber(kEnergyTolerance) << " relative to |E_0|"
       << (exempt ? "; not checked here: the scene has a moving surface or an input" : "") << ")\n"
-      << "dt,friction,restitution,outcome,max_penetration,energy_gain,steps,t_end,message\n";
+      << "engine,dt,friction,restitution,outcome,max_penetration,energy_gain,steps,t_end,message\n";
   std::map<std::string, int> counts;
   const std::vector<double> none{kNaN};
+  for (Engine engine : engines)
   for (double dt : dts)
     for (double mu : frictions.empty() ? none : frictions)
       for (double e : restitutions.empty() ? none : restitutions) {
@@ -439,10 +638,10 @@ int stability(const StabilityOptions& opt) {
         if (!std::isnan(mu)) o["friction"] = mu;
         if (!std::isnan(e)) o["restitution"] = e;
         const Scene scene = loadScene(opt.scene, o);
-        const StabilityRun r =
-            stabilityRun(scene, stepperOptions(dt, opt.theta, solver), stepCount(duration, dt), exempt);
-        ++counts[r.outcome];
-        csv << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
+        const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver),
+                                            stepCount(duration, dt), exempt);
+        ++counts[std::string(engineName(engine)) + " " + r.outcome];
+        csv << engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
             << (std::isnan(e) ? "" : formatNumber(e, 10)) << "," << r.outcome << ","
             << formatNumber(r.max_penetration, 6) << "," << formatNumber(r.energy_gain, 6) << "," << r.steps << ","
             << formatNumber(r.t_end, 10) << "," << csvField(r.message) << "\n";
@@ -463,7 +662,11 @@ void addCommonOptions(CLI::App* app, BenchOptions& opt) {
   app->add_option("--set", opt.set, "Override a scene parameter: --set name=value (repeatable)")
       ->allow_extra_args(false);
   app->add_option("--theta", opt.theta, "θ of the θ-method, in [0.5, 1]")->capture_default_str();
-  app->add_option("--solver", opt.solver, "LCP solver: lemke or pgs")->capture_default_str();
+  app->add_option("--solver", opt.solver, "LCP solver of the saltus stepper: lemke or pgs")->capture_default_str();
+  app->add_option("--engine", opt.engine, "Engine: saltus, bullet (btMultiBodyDynamicsWorld) or both")
+      ->capture_default_str();
+  app->add_option("--bullet-solver", opt.bullet_solver, "Bullet's solver: dantzig, lemke (MLCP) or si")
+      ->capture_default_str();
   app->add_option_function<double>(
       "--duration", [&opt](double d) { opt.duration = d; }, "Simulated time [s] (default: the scene's duration)");
   app->add_option("--out", opt.out, "Output folder (created when missing)")->required();
@@ -499,10 +702,24 @@ Command addBenchCommand(CLI::App& saltus) {
       "--restitutions", [st](const std::string& s) { st->restitutions = s; },
       std::string("Values of the scene's 'restitution' parameter (default ") + kDefaultRestitutions + ")");
 
-  return {bench, [wp, st, wp_app, st_app]() -> int {
+  auto ps = std::make_shared<PerStepOptions>();
+  CLI::App* ps_app = bench->add_subcommand(
+      "per-step",
+      "ns per step of saltus and Bullet at the same dt on built-in scenes (interleaved, fastest of --repeat rounds), "
+      "their ratio and errors; a CSV table on standard output.");
+  ps_app->add_option("--scenes", ps->scenes, "Built-in scenes, comma-separated")->capture_default_str();
+  ps_app->add_option("--dt", ps->dt, "Time step [s]")->capture_default_str();
+  ps_app->add_option("--repeat", ps->repeat, "Timing rounds (the fastest is kept)")->capture_default_str();
+  ps_app->add_option("--min-time", ps->min_time, "CPU seconds per timing (fastest run kept)")->capture_default_str();
+  ps_app->add_option("--solver", ps->solver, "LCP solver of the saltus stepper: lemke or pgs")->capture_default_str();
+  ps_app->add_option("--bullet-solver", ps->bullet_solver, "Bullet's solver: dantzig, lemke or si")
+      ->capture_default_str();
+
+  return {bench, [wp, st, ps, wp_app, st_app, ps_app]() -> int {
             if (wp_app->parsed()) return workPrecision(*wp);
             if (st_app->parsed()) return stability(*st);
-            throw UsageError("bench: expected a subcommand: work-precision or stability");
+            if (ps_app->parsed()) return perStep(*ps);
+            throw UsageError("bench: expected a subcommand: work-precision, stability or per-step");
           }};
 }
 

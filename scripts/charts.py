@@ -65,18 +65,22 @@ def work_precision(args):
 
     meta, rows = read_csv(args.csv)
     scene, method = scene_title(meta)
-    points = []
+    series = {}  # engine -> points (a CSV without an engine column is one saltus series)
     for r in rows:
         dt, err, cpu = number(r.get("dt")), number(r.get("error")), number(r.get("cpu_seconds_per_simulated_second"))
         if all(math.isfinite(x) and x > 0 for x in (dt, err, cpu)):
-            points.append((dt, cpu, err))
-    if not points:
+            series.setdefault(r.get("engine") or "saltus", []).append((dt, cpu, err))
+    if not series:
         raise SystemExit("charts.py: %s: no row with a positive, finite error and CPU time to plot" % args.csv)
-    points.sort(key=lambda p: p[1])
     fig, ax = plt.subplots(figsize=(7, 5))
-    ax.loglog([p[1] for p in points], [p[2] for p in points], "o-", color="tab:blue")
-    for dt, cpu, err in points:
-        ax.annotate("dt=%g" % dt, (cpu, err), textcoords="offset points", xytext=(6, 4), fontsize=8)
+    colours = {"saltus": "tab:blue", "bullet": "tab:orange"}
+    for engine, points in series.items():
+        points.sort(key=lambda p: p[1])
+        ax.loglog([p[1] for p in points], [p[2] for p in points], "o-", color=colours.get(engine), label=engine)
+        for dt, cpu, err in points:
+            ax.annotate("dt=%g" % dt, (cpu, err), textcoords="offset points", xytext=(6, 4), fontsize=8)
+    if len(series) > 1:
+        ax.legend(fontsize=8)
     ax.set_xlabel("CPU seconds per simulated second")
     ax.set_ylabel("error")
     ax.grid(True, which="both", alpha=0.3)
@@ -95,6 +99,7 @@ OUTCOME_COLOURS = {
     "lcp_failure": "#e53935",
     "nan": "#212121",
     "error": "#9e9e9e",
+    "solver_fallback": "#fdd835",
 }
 
 
@@ -116,12 +121,16 @@ def stability(args):
     else:
         y_name, panel_name = None, None
     ys = sorted({number(r[y_name]) for r in rows}) if y_name else [0.0]
-    panels = sorted({number(r[panel_name]) for r in rows}) if panel_name else [None]
+    values = sorted({number(r[panel_name]) for r in rows}) if panel_name else [None]
+    engines = sorted({r.get("engine") or "" for r in rows}, key=lambda e: (e != "saltus", e))
+    panels = [(e, v) for e in engines for v in values]
 
     fig, axes = plt.subplots(1, len(panels), figsize=(1.1 + 0.9 * len(dts) * len(panels), 1.6 + 0.55 * len(ys)),
                              squeeze=False)
-    for ax, panel in zip(axes[0], panels):
+    for ax, (engine, panel) in zip(axes[0], panels):
         for r in rows:
+            if (r.get("engine") or "") != engine:
+                continue
             if panel is not None and number(r[panel_name]) != panel:
                 continue
             x = dts.index(number(r["dt"]))
@@ -141,8 +150,11 @@ def stability(args):
         ax.set_xlabel("dt [s]")
         if y_name:
             ax.set_ylabel(y_name)
+        title = [engine] if engine else []
         if panel is not None:
-            ax.set_title("%s = %g" % (panel_name, panel), fontsize=9)
+            title.append("%s = %g" % (panel_name, panel))
+        if title:
+            ax.set_title(", ".join(title), fontsize=9)
         ax.set_aspect("auto")
     present = [o for o in OUTCOME_COLOURS if any(r.get("outcome") == o for r in rows)]
     fig.suptitle("%s: stability (%s)" % (scene, method), fontsize=10)

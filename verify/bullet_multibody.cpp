@@ -28,6 +28,9 @@
 // yaw, pitch, roll) through massless links with P = 1, c = 0 at the body origin.
 #include "verify/bullet_multibody.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -200,23 +203,18 @@ BulletMultiBody::~BulletMultiBody() = default;
 
 int BulletMultiBody::numLinks() const { return mb_->getNumLinks(); }
 
-void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& tau) {
+void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
   const int n = model_.nv();
-  if (q.size() != n || v.size() != n || tau.size() != n)
-    throw std::invalid_argument("BulletMultiBody: q, v and tau must have " + std::to_string(n) + " entries");
-  mb_->clearForcesAndTorques();
-  mb_->clearConstraintForces();
-  const Eigen::Vector3d g = model_.gravity;
+  if (q.size() != n || v.size() != n)
+    throw std::invalid_argument("BulletMultiBody: q and v must have " + std::to_string(n) + " entries");
   for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
-    const int j = links_[k].coordinate, i = links_[k].body;
+    const int j = links_[k].coordinate;
     mb_->setJointPos(k, q[j]);
     mb_->setJointVel(k, v[j]);
-    mb_->addJointTorque(k, tau[j]);
-    if (last_link_of_body_[i] == k && m_[i] > 0) mb_->addLinkForce(k, toBt(m_[i] * g));  // world force at the com
   }
   if (!native_free_) return;
 
-  // Free base: pose, twist and wrench of the root body (saltus body 0, coordinates 0..5).
+  // Free base: pose and twist of the root body (saltus body 0, coordinates 0..5).
   const int r = 0;
   const Eigen::Vector3d p = q.head<3>(), pd = v.head<3>();
   const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
@@ -228,18 +226,84 @@ void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   mb_->setWorldToBaseRot(toBtQuat((R * P_[r]).transpose()));
   mb_->setBaseOmega(toBt(w));
   mb_->setBaseVel(toBt(pd + w.cross(c_world)));
+}
+
+void BulletMultiBody::getState(Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd* q_hint) const {
+  const int n = model_.nv();
+  q.resize(n);
+  v.resize(n);
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
+    const int j = links_[k].coordinate;
+    q[j] = mb_->getJointPos(k);
+    v[j] = mb_->getJointVel(k);
+  }
+  if (!native_free_) return;
+  const int r = 0;
+  // worldToBaseRot = (R P)ᵀ, so R = worldToBaseRotᵀ Pᵀ.
+  const btQuaternion qb = mb_->getWorldToBaseRot();
+  const Eigen::Matrix3d RP_T = Eigen::Quaterniond(qb.w(), qb.x(), qb.y(), qb.z()).toRotationMatrix();
+  const Eigen::Matrix3d R = RP_T.transpose() * P_[r].transpose();
+  // R = Rz(ψ) Ry(θ) Rx(φ): R(2,0) = −sin θ, R(1,0)/R(0,0) = tan ψ, R(2,1)/R(2,2) = tan φ.
+  Eigen::Vector3d eta(std::atan2(R(1, 0), R(0, 0)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)),
+                      std::atan2(R(2, 1), R(2, 2)));
+  if (q_hint && q_hint->size() == n)
+    for (int a : {0, 2}) {
+      const double ref = (*q_hint)[3 + a];
+      eta[a] += 2 * std::numbers::pi * std::round((ref - eta[a]) / (2 * std::numbers::pi));
+    }
+  const Eigen::Vector3d c_world = R * c_[r];
+  const Eigen::Vector3d w = toEigen(mb_->getBaseOmega());
+  q.head<3>() = toEigen(mb_->getBasePos()) - c_world;
+  q.segment<3>(3) = eta;
+  v.head<3>() = toEigen(mb_->getBaseVel()) - w.cross(c_world);
+  v.segment<3>(3) = eulerRateMatrix(eta).lu().solve(w);
+}
+
+void BulletMultiBody::setGeneralisedForces(const Eigen::VectorXd& q, const Eigen::VectorXd& tau) {
+  applyForces(q, tau, false);
+}
+
+void BulletMultiBody::applyForces(const Eigen::VectorXd& q, const Eigen::VectorXd& tau, bool gravity) {
+  const int n = model_.nv();
+  if (q.size() != n || tau.size() != n)
+    throw std::invalid_argument("BulletMultiBody: q and tau must have " + std::to_string(n) + " entries");
+  mb_->clearForcesAndTorques();
+  mb_->clearConstraintForces();
+  const Eigen::Vector3d g = model_.gravity;
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
+    const int j = links_[k].coordinate, i = links_[k].body;
+    mb_->addJointTorque(k, tau[j]);
+    if (gravity && last_link_of_body_[i] == k && m_[i] > 0) mb_->addLinkForce(k, toBt(m_[i] * g));  // world force at the com
+  }
+  if (!native_free_) return;
+  const int r = 0;
+  const Eigen::Vector3d eta = q.segment<3>(3);
+  const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);
+  const Eigen::Matrix3d E = eulerRateMatrix(eta);
+  const Eigen::Vector3d c_world = R * c_[r];
   // Generalised forces of the base: by virtual power, τ_xyz·ṗ + τ_η·η̇ = f·ṗ + n_O·ω, so the
   // force is f = τ_xyz and the moment about the root origin is n_O = E⁻ᵀ τ_η; Bullet applies
   // base forces at the com, so the torque about the com is n_O − (R c) × f.
   const Eigen::Vector3d f = tau.head<3>();
   const Eigen::Vector3d n_O = E.transpose().lu().solve(Eigen::Vector3d(tau.segment<3>(3)));
-  mb_->addBaseForce(toBt(f + m_[r] * g));
+  mb_->addBaseForce(toBt(f + (gravity ? Eigen::Vector3d(m_[r] * g) : Eigen::Vector3d::Zero())));
   mb_->addBaseTorque(toBt(n_O - c_world.cross(f)));
+}
+
+int BulletMultiBody::linkOfCoordinate(int coordinate) const {
+  for (int k = 0; k < static_cast<int>(links_.size()); ++k)
+    if (links_[k].coordinate == coordinate) return k;
+  return -1;
+}
+
+Eigen::Vector3d BulletMultiBody::bodyPointInLinkFrame(int body, const Eigen::Vector3d& p_B) const {
+  return P_.at(body).transpose() * (p_B - c_.at(body));
 }
 
 Eigen::VectorXd BulletMultiBody::forwardDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                                  const Eigen::VectorXd& tau) {
-  setState(q, v, tau);
+  setState(q, v);
+  applyForces(q, tau, true);
   btAlignedObjectArray<btScalar> scratch_r;
   btAlignedObjectArray<btVector3> scratch_v;
   btAlignedObjectArray<btMatrix3x3> scratch_m;

@@ -14,7 +14,9 @@
 //    one-coordinate prismatic/revolute links, massless but for the last, on a fixed Bullet base
 //    (Bullet's ABA copes with massless links whose subtree has mass).
 // Forward dynamics is Bullet's computeAccelerationsArticulatedBodyAlgorithmMultiDof with dt = 0:
-// the accelerations are read from its output, no time stepping is involved.
+// the accelerations are read from its output, no time stepping is involved. The state conversions
+// (setState / getState, generalised forces) are public so that a time-stepping Bullet world
+// (bullet_world.hpp) can drive the same btMultiBody.
 #pragma once
 
 #include <memory>
@@ -47,8 +49,28 @@ class BulletMultiBody {
   Eigen::VectorXd forwardDynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                   const Eigen::VectorXd& tau);
 
+  // saltus (q, v) -> Bullet joint and base state (no forces). Throws on a size mismatch.
+  void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+  // Bullet state -> saltus (q, v). For a native free base the Euler angles (ψ, θ, φ) come from the
+  // base rotation with θ ∈ [−π/2, π/2]; yaw and roll are unwrapped to the branch nearest
+  // `q_hint`'s (when given), so a body that keeps turning has continuous coordinates.
+  void getState(Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd* q_hint = nullptr) const;
+  // Clears Bullet's applied forces and adds the generalised forces τ (joint torques / forces; for a
+  // native free base the equivalent wrench at the com, see setState). Gravity is not added (a
+  // btMultiBodyDynamicsWorld applies its own). Needs the base pose of the current state.
+  void setGeneralisedForces(const Eigen::VectorXd& q, const Eigen::VectorXd& tau);
+
+  btMultiBody* multiBody() { return mb_.get(); }
+  const dynamics::Model<double>& model() const { return model_; }
   // Number of Bullet links (bodies other than Bullet's base).
   int numLinks() const;
+  // The Bullet link that carries saltus body i (−1: Bullet's base, for a native free base).
+  int linkOfBody(int body) const { return last_link_of_body_.at(body); }
+  // The Bullet link whose joint is saltus coordinate k (−1 for a native free base's coordinates).
+  int linkOfCoordinate(int coordinate) const;
+  // A point given in saltus body coordinates, in the Bullet link frame of that body:
+  // P_iᵀ (p_B − c_i) (the link frame sits at the com with principal axes).
+  Eigen::Vector3d bodyPointInLinkFrame(int body, const Eigen::Vector3d& p_B) const;
   bool nativeFloatingBase() const { return native_free_; }
 
   // World position of the centre of mass of saltus body i after the last forwardDynamics call, as
@@ -56,7 +78,7 @@ class BulletMultiBody {
   Eigen::Vector3d comPosition(int body) const;
 
  private:
-  void setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& tau);
+  void applyForces(const Eigen::VectorXd& q, const Eigen::VectorXd& tau, bool gravity);
 
   struct LinkSpec {
     int body;        // saltus body the link belongs to (the last link of a body carries it)

@@ -216,13 +216,14 @@ TEST(BenchWorkPrecision, BallDropErrorsFallWithDtAndChartsExist) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
   const Csv csv = readCsv(dir / "work_precision.csv");
-  EXPECT_EQ(csv.header, (std::vector<std::string>{"dt", "error", "cpu_seconds_per_simulated_second", "ns_per_step",
-                                                   "steps", "lcp_failures"}));
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"engine", "dt", "error", "cpu_seconds_per_simulated_second",
+                                                   "ns_per_step", "steps", "solver_failures"}));
   ASSERT_EQ(csv.rows.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
     EXPECT_GT(csv.number(i, "cpu_seconds_per_simulated_second"), 0);
     EXPECT_GT(csv.number(i, "ns_per_step"), 0);
-    EXPECT_EQ(csv.number(i, "lcp_failures"), 0);
+    EXPECT_EQ(csv.rows[i].at("engine"), "saltus");
+    EXPECT_EQ(csv.number(i, "solver_failures"), 0);
     if (i > 0) {
       EXPECT_LT(csv.number(i, "dt"), csv.number(i - 1, "dt"));
       EXPECT_LT(csv.number(i, "error"), csv.number(i - 1, "error")) << "row " << i;
@@ -245,10 +246,10 @@ TEST(BenchStability, BallDropTinyGrid) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
   const Csv csv = readCsv(dir / "stability.csv");
-  EXPECT_EQ(csv.header, (std::vector<std::string>{"dt", "friction", "restitution", "outcome", "max_penetration",
-                                                   "energy_gain", "steps", "t_end", "message"}));
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"engine", "dt", "friction", "restitution", "outcome",
+                                                   "max_penetration", "energy_gain", "steps", "t_end", "message"}));
   ASSERT_EQ(csv.rows.size(), 4u) << "2 dt × 2 restitution (ball_drop has no friction parameter)";
-  const std::set<std::string> outcomes{"ok", "lcp_failure", "nan", "energy_gain", "penetration", "error"};
+  const std::set<std::string> outcomes{"ok", "lcp_failure", "nan", "energy_gain", "penetration", "error", "solver_fallback"};
   for (std::size_t i = 0; i < csv.rows.size(); ++i) {
     const auto& row = csv.rows[i];
     EXPECT_EQ(row.at("friction"), "");
@@ -274,6 +275,28 @@ TEST(BenchStability, BallDropTinyGrid) {
   EXPECT_NE(readFile(dir / "stability.svg").find("<svg"), std::string::npos);
 }
 
+TEST(BenchWorkPrecision, BothEnginesOnBallDrop) {
+  // Bullet (tuned, verify/bullet_world.hpp) and saltus (θ = 1) both find the first apex 0.24842 m at
+  // dt 1e-3 (exact 0.25): the same velocity-level Newton impact on a semi-implicit Euler step.
+  const TempDir dir("wpboth");
+  const Result r = runSaltus({"bench", "work-precision", "ball_drop", "--engine", "both", "--dts", "1e-2,1e-3",
+                              "--min-time", "0", "--out", dir.path().string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = readCsv(dir / "work_precision.csv");
+  ASSERT_EQ(csv.rows.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(csv.rows[i].at("engine"), i < 2 ? "saltus" : "bullet");
+    EXPECT_EQ(csv.number(i, "solver_failures"), 0);
+    EXPECT_GT(csv.number(i, "ns_per_step"), 0);
+  }
+  EXPECT_NEAR(csv.number(3, "error"), 0.25 - 0.24842, 1e-4);
+  EXPECT_LT(csv.number(3, "error"), csv.number(2, "error"));
+  bool lists_approximations = false;
+  for (const std::string& c : csv.comments) lists_approximations |= c.find("# bullet approximation: ") == 0;
+  EXPECT_TRUE(lists_approximations);
+  EXPECT_GT(readFile(dir / "work_precision.png").size(), 1000u);
+}
+
 TEST(BenchErrors, ChartFailureIsReportedAndTheCsvStays) {
   const TempDir dir("chartfail");
   const Result r = runSaltus({"bench", "work-precision", "ball_drop", "--dts", "1e-2", "--min-time", "0", "--out",
@@ -289,6 +312,9 @@ TEST(BenchErrors, UsageErrors) {
   const TempDir dir("benchusage");
   const std::string out = (dir.path() / "x").string();
   expectError(dir, {"bench"}, 2, {"subcommand"});
+  expectError(dir, {"bench", "work-precision", "ball_drop", "--engine", "ode", "--out", out}, 2, {"--engine", "ode"});
+  expectError(dir, {"bench", "stability", "ball_drop", "--bullet-solver", "pgs", "--out", out}, 2,
+              {"--bullet-solver", "pgs"});
   expectError(dir, {"bench", "work-precision", "ball_drop", "--dts", "1e-2,abc", "--out", out}, 2, {"--dts", "abc"});
   expectError(dir, {"bench", "stability", "block_slide", "--restitutions", "0.5", "--out", out}, 2,
               {"--restitutions", "restitution"});

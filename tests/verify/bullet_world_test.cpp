@@ -1,0 +1,270 @@
+// Bullet's btMultiBodyDynamicsWorld on saltus scenes (verify/bullet_world.hpp) against the
+// closed-form answers of shared/reference/facts.md §3 (timestepper/analytic.hpp).
+//
+// Tolerances are Bullet's measured accuracy with the tuned default settings (Dantzig MLCP,
+// erp2 0, restitution threshold 1e-3 m/s, cfm 1e-12; g++ 12 -O3), with some headroom:
+//  - ball_drop (h0 1 m, e 0.5): first apex 0.24842 m at dt 1e-3 (−0.63 %), 0.25008 m at 1e-4
+//    (+0.03 %); resting penetration 4.33 mm at 1e-3 (erp2 = 0 never pushes it out);
+//  - block_slide (μ 0.3, v0 2 m/s): stops at 0.67858 m at dt 1e-3 (exact 0.67958; one step of
+//    v0 h/2), 0.67948 m at 1e-4.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "scene/scenario.hpp"
+#include "tests/support/free_body.hpp"
+#include "tests/support/scenes.hpp"
+#include "timestepper/analytic.hpp"
+#include "verify/bullet_world.hpp"
+
+namespace {
+
+using namespace saltus;
+using saltus::verify::BulletMultiBody;
+using saltus::verify::BulletSolver;
+using saltus::verify::BulletWorld;
+using saltus::verify::BulletWorldOptions;
+namespace analytic = saltus::timestepper::analytic;
+
+constexpr double kG = 9.81;
+
+BulletWorldOptions worldOptions(double dt, BulletSolver solver = BulletSolver::MlcpDantzig) {
+  BulletWorldOptions o;
+  o.dt = dt;
+  o.solver = solver;
+  return o;
+}
+
+struct BallRun {
+  double apex1 = 0, z_min = 0, z_end = 0, v_end = 0;
+  long fallbacks = 0;
+};
+
+BallRun dropBall(const scene::Scene& scene, const BulletWorldOptions& options, double duration) {
+  BulletWorld world(scene, options);
+  std::vector<double> z{world.q()[0]}, pn{0.0};
+  BallRun r;
+  r.z_min = world.q()[0];
+  const long steps = std::lround(duration / options.dt);
+  for (long i = 0; i < steps; ++i) {
+    world.step();
+    z.push_back(world.q()[0]);
+    pn.push_back(world.contacts()[0].pn);
+    r.z_min = std::min(r.z_min, world.q()[0]);
+  }
+  r.apex1 = analytic::firstApex(z, pn);
+  r.z_end = world.q()[0];
+  r.v_end = world.v()[0];
+  r.fallbacks = world.stats().mlcp_fallbacks;
+  return r;
+}
+
+TEST(BulletWorld, BallDropFirstApexMatchesNewtonRestitution) {
+  const scene::Scene scene = scene::loadScene("ball_drop");  // h0 = 1 m, e = 0.5
+  const double exact = analytic::ballApex(1.0, 0.5, 1);
+  const BallRun coarse = dropBall(scene, worldOptions(1e-3), 1.0);
+  EXPECT_NEAR(coarse.apex1, exact, 0.01 * exact);
+  EXPECT_EQ(coarse.fallbacks, 0);
+  // The ball sinks by about one step of the impact speed, v h = 4.4 mm, and stays there (erp2 0).
+  EXPECT_LT(coarse.z_min, -0.5 * analytic::ballImpactSpeed(1.0, 0.5, 0, kG) * 1e-3);
+  EXPECT_GT(coarse.z_min, -1.2 * analytic::ballImpactSpeed(1.0, 0.5, 0, kG) * 1e-3);
+  const BallRun fine = dropBall(scene, worldOptions(1e-4), 1.0);
+  EXPECT_NEAR(fine.apex1, exact, 0.002 * exact);
+  EXPECT_EQ(fine.fallbacks, 0);
+}
+
+TEST(BulletWorld, BallDropComesToRestAfterTheAnalyticRestTime) {
+  const scene::Scene scene = saltus::testing::ballDrop(0.2, 0.5);
+  const double t_rest = analytic::ballRestTime(0.2, 0.5, kG);  // 0.606 s
+  const BallRun r = dropBall(scene, worldOptions(1e-3), t_rest + 0.2);
+  EXPECT_LT(std::abs(r.v_end), 0.02);
+  EXPECT_LT(std::abs(r.z_end), 3e-3);
+  // Still bouncing well before t_rest: the apex after two bounces is e⁴ h0 = 12.5 mm.
+  BulletWorld world(scene, worldOptions(1e-3));
+  double z_max_late = -1;
+  for (long i = 0; i < std::lround(t_rest / 1e-3); ++i) {
+    world.step();
+    if (world.time() > 0.5 * t_rest) z_max_late = std::max(z_max_late, world.q()[0]);
+  }
+  EXPECT_GT(z_max_late, 1e-3);
+}
+
+TEST(BulletWorld, DefaultBulletSettingsLoseEnergyTunedOnesDoNot) {
+  // facts.md §5: Bullet's defaults (erp2 0.2, threshold 0.2 m/s, all manifold points solved)
+  // distort the bounce. The tuned world must be closer to e² h0 than the default one.
+  const scene::Scene scene = scene::loadScene("ball_drop");
+  const double exact = analytic::ballApex(1.0, 0.5, 1);
+  const BallRun tuned = dropBall(scene, worldOptions(1e-3), 1.0);
+  const BallRun defaults = dropBall(scene, BulletWorldOptions::bulletDefaults(1e-3, BulletSolver::MlcpDantzig), 1.0);
+  EXPECT_LT(std::abs(tuned.apex1 - exact), 0.5 * std::abs(defaults.apex1 - exact));
+}
+
+TEST(BulletWorld, BlockSlideStopsAtTheCoulombDistance) {
+  const scene::Scene scene = scene::loadScene("block_slide");  // μ 0.3, v0 2 m/s, level
+  const double exact = analytic::slideStopDistance(2.0, 0.3, 0.0, kG);
+  for (BulletSolver solver : {BulletSolver::MlcpDantzig, BulletSolver::SequentialImpulse}) {
+    BulletWorld world(scene, worldOptions(1e-3, solver));
+    for (int i = 0; i < 1000; ++i) world.step();
+    EXPECT_NEAR(world.q()[0], exact, 2e-3) << verify::bulletSolverName(solver);
+    EXPECT_NEAR(world.v()[0], 0.0, 1e-9) << verify::bulletSolverName(solver);
+    EXPECT_EQ(world.stats().mlcp_fallbacks, 0);
+    EXPECT_LT(world.stats().max_penetration, 1e-9);
+  }
+}
+
+TEST(BulletWorld, BeltDragsARestingBlockToTheBeltSpeed) {
+  // facts.md §3: a block put on a belt at V_b reaches V_b after V_b/(μ g), accelerating at μ g.
+  scene::Scene scene = saltus::testing::blockSlide(0.0, 0.0, 0.3);
+  const double belt = 1.0;
+  scene.surfaces[0].velocity_schedule = {{0.0, Eigen::Vector3d(belt, 0, 0)}};
+  BulletWorld world(scene, worldOptions(1e-3));
+  const double t_match = belt / (0.3 * kG);  // 0.34 s
+  while (world.time() < 0.5 * t_match - 1e-9) world.step();
+  EXPECT_NEAR(world.v()[0], 0.3 * kG * world.time(), 0.02 * belt);
+  while (world.time() < t_match + 0.1) world.step();
+  EXPECT_NEAR(world.v()[0], belt, 1e-6);
+  EXPECT_NEAR(world.contacts()[0].vt1, 0.0, 1e-6);  // sticking to the belt
+  EXPECT_TRUE(world.contacts()[0].active);
+  EXPECT_FALSE(world.approximations().empty());
+}
+
+TEST(BulletWorld, PendulumTipFollowsTheSteppedBelt) {
+  // Saltus brings the tip to the belt's speed with one tangential impulse (an impact without
+  // collision, paper IV.A). Bullet does not: its friction impulse stays near m g h per step
+  // (measured 9.8e-3 N s against μ p_n = 2.2e-2), so the tip catches up over ~70 ms (|v_t| < 1e-4
+  // m/s at 0.18 s, dt 1e-3), the contact staying closed (gap ≤ 2.3e-7 m).
+  const scene::Scene scene = scene::loadScene("pendulum_conveyor");  // belt 0.5 m/s from t = 0.1 s
+  BulletWorld world(scene, worldOptions(1e-3));
+  while (world.time() < 0.099 - 1e-9) world.step();
+  EXPECT_NEAR(world.q()[0], scene.q0[0], 1e-4);  // at rest on the resting belt (sinks 1.5e-5 rad)
+  EXPECT_NEAR(world.q()[1], scene.q0[1], 1e-4);
+  EXPECT_NEAR(world.contacts()[0].vt1, 0.0, 1e-6);
+  world.step();  // the step that ends at 0.1 s sees the belt at 0.5 m/s
+  EXPECT_NEAR(world.contacts()[0].vt1, -0.5, 0.05);
+  EXPECT_GT(world.contacts()[0].pt1, 0.0);  // dragged along +x
+  double max_gap = 0;
+  while (world.time() < 0.18 - 1e-9) {
+    world.step();
+    max_gap = std::max(max_gap, world.contacts()[0].gap);
+    EXPECT_TRUE(world.contacts()[0].active) << "t = " << world.time();
+  }
+  EXPECT_LT(max_gap, 1e-5);  // the contact never opens
+  EXPECT_NEAR(world.contacts()[0].vt1, 0.0, 1e-3);
+  while (world.time() < 0.25) world.step();
+  EXPECT_NEAR(world.contacts()[0].vt1, 0.0, 1e-3);
+  EXPECT_GT(world.q()[1], scene.q0[1] + 0.05);  // the tip moved with the belt
+  EXPECT_EQ(world.stats().mlcp_fallbacks, 0);
+}
+
+TEST(BulletWorld, JointLimitStopHolds) {
+  // The double pendulum of pendulum_conveyor without its belt contact, released at θ1 = 0.6 with
+  // a lower stop at θ1 = 0.2: it swings down onto the stop and stays there.
+  scene::Scene scene = scene::loadScene("pendulum_conveyor");
+  scene.contacts.clear();
+  scene.surfaces.clear();
+  scene.limits.push_back({"theta1_lower", 0, false, 0.2, 0.0});
+  scene.q0 = Eigen::Vector2d(0.6, 0.0);
+  BulletWorld world(scene, worldOptions(1e-3));
+  double q_min = 1;
+  for (int i = 0; i < 1500; ++i) {
+    world.step();
+    q_min = std::min(q_min, world.q()[0]);
+  }
+  EXPECT_GT(q_min, 0.2 - 0.02);  // at most one step's worth of the impact speed past the stop
+  EXPECT_LT(q_min, 0.2 + 1e-3);  // it did reach the stop
+  EXPECT_LT(world.stats().max_penetration, 0.02);
+  EXPECT_GT(world.stats().max_penetration, 0.0);
+  // Without the stop the pendulum swings through θ1 = −0.6.
+  scene.limits.clear();
+  BulletWorld free_world(scene, worldOptions(1e-3));
+  double q_min_free = 1;
+  for (int i = 0; i < 1500; ++i) {
+    free_world.step();
+    q_min_free = std::min(q_min_free, free_world.q()[0]);
+  }
+  EXPECT_LT(q_min_free, -0.3);
+}
+
+TEST(BulletWorld, TimeVaryingInputIsAppliedPerStep) {
+  // A ball high above the ground: semi-implicit Euler with a = τ/m − g gives exactly
+  // v_n = h Σ a_k and z_n = z_0 + h Σ v_k.
+  scene::Scene scene = saltus::testing::ballDrop(10.0, 0.5);
+  BulletWorld world(scene, worldOptions(1e-3));
+  double v = 0, z = 10.0;
+  for (int i = 0; i < 200; ++i) {
+    const double tau = i < 100 ? kG + 2.0 : kG - 1.0;
+    world.step(Eigen::VectorXd::Constant(1, tau));
+    v += 1e-3 * (tau - kG);
+    z += 1e-3 * v;
+  }
+  EXPECT_NEAR(world.v()[0], v, 1e-12);
+  EXPECT_NEAR(world.q()[0], z, 1e-12);
+  EXPECT_NEAR(world.v()[0], 0.1, 1e-12);  // 0.1 s at +2 then 0.1 s at −1
+}
+
+TEST(BulletWorld, ResetStartsFromAnyStateAndTime) {
+  const scene::Scene scene = scene::loadScene("pendulum_conveyor");
+  BulletWorld world(scene, worldOptions(1e-3));
+  for (int i = 0; i < 50; ++i) world.step();
+  // Restart at t = 0.3 s: the belt already moves, so the resting tip is dragged at once.
+  world.reset(scene.q0, Eigen::VectorXd::Zero(2), 0.3);
+  EXPECT_DOUBLE_EQ(world.time(), 0.3);
+  EXPECT_EQ(world.stats().steps, 0);
+  EXPECT_EQ(world.q(), scene.q0);
+  world.step();
+  EXPECT_NEAR(world.time(), 0.301, 1e-12);
+  EXPECT_GT(world.contacts()[0].pt1, 0.0);
+  for (int i = 0; i < 100; ++i) world.step();
+  EXPECT_NEAR(world.contacts()[0].vt1, 0.0, 1e-3);
+}
+
+TEST(BulletWorld, StateConversionRoundTrip) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  // A free body (native floating base, Euler coordinates) and the double pendulum.
+  Eigen::Matrix3d Ic;
+  Ic << 0.3, 0.01, 0.02, 0.01, 0.2, -0.03, 0.02, -0.03, 0.4;
+  const dynamics::Model<double> free_body = saltus::testing::freeBodyModel(2.0, Eigen::Vector3d(0.1, -0.2, 0.05), Ic);
+  const scene::Scene pendulum = scene::loadScene("pendulum_conveyor");
+  for (const dynamics::Model<double>* model : {&free_body, &pendulum.model}) {
+    BulletMultiBody mb(*model);
+    const int n = model->nv();
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::VectorXd q(n), v(n);
+      for (int i = 0; i < n; ++i) q[i] = 1.5 * u(rng), v[i] = 2 * u(rng);
+      if (model == &free_body) q[4] = 1.2 * u(rng);  // pitch away from ±π/2
+      mb.setState(q, v);
+      Eigen::VectorXd q2, v2;
+      mb.getState(q2, v2);
+      EXPECT_LT((q2 - q).lpNorm<Eigen::Infinity>(), 1e-12) << model->name;
+      EXPECT_LT((v2 - v).lpNorm<Eigen::Infinity>(), 1e-12) << model->name;
+    }
+  }
+  // Yaw beyond π comes back on the branch of the hint.
+  BulletMultiBody mb(free_body);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(6), v = Eigen::VectorXd::Zero(6);
+  q[3] = 3.5;
+  mb.setState(q, v);
+  Eigen::VectorXd q2, v2;
+  mb.getState(q2, v2);
+  EXPECT_NEAR(q2[3], 3.5 - 2 * std::numbers::pi, 1e-12);
+  mb.getState(q2, v2, &q);
+  EXPECT_NEAR(q2[3], 3.5, 1e-12);
+}
+
+TEST(BulletWorld, ReportsApproximationsAndRejectsFreeBaseLimits) {
+  const scene::Scene ball = scene::loadScene("ball_drop");
+  BulletWorld world(ball, worldOptions(1e-3));
+  bool mentions_sphere = false;
+  for (const std::string& a : world.approximations()) mentions_sphere |= a.find("sphere") != std::string::npos;
+  EXPECT_TRUE(mentions_sphere);
+
+  scene::Scene free_scene;
+  free_scene.name = "free";
+  free_scene.model = saltus::testing::freeBodyModel(1.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+  free_scene.limits.push_back({"z_lower", 2, false, 0.0, 0.0});
+  EXPECT_THROW(BulletWorld(free_scene, worldOptions(1e-3)), std::invalid_argument);
+}
+
+}  // namespace
