@@ -252,6 +252,18 @@ SceneGeometry::SceneGeometry(const scene::Scene& scene, std::ostream& warnings)
     shapes_.push_back(s);
   }
 
+  // The pivot of a revolute joint on the world: a small dark sphere fixed there.
+  for (int b = 0; b < nb; ++b)
+    if (model.parent[b] < 0 && model.joint_type[b] == dynamics::JointType::Revolute) {
+      Shape s;
+      s.body = -1;
+      s.X_BG.translation() = model.X_tree[b].r;
+      s.mesh = sphere;
+      s.scale = Eigen::Vector3d::Constant(longest > 0 ? 2 * capsule_radius : 0.03);
+      s.rgba = Eigen::Vector4f(0.2f, 0.2f, 0.22f, 1.0f);
+      shapes_.push_back(s);
+    }
+
   // URDF / builder visuals.
   std::set<std::string> reported;
   for (const dynamics::Visual& v : model.visuals) {

@@ -7,6 +7,7 @@
 //  - a body without visuals: capsules from its joint origin to each child's joint origin, or to
 //    its centre of mass when it has no children; a point mass (com at the joint origin, no
 //    children) is a sphere.
+//  - the pivot of a revolute joint on the world: a small dark sphere.
 #pragma once
 
 #include <cstdint>

@@ -20,7 +20,8 @@ class VideoWriter {
  public:
   // Starts `ffmpeg` (the program: $SALTUS_FFMPEG when set, else ffmpeg from PATH) encoding
   // width × height RGB frames at fps into an H.264 MP4 (yuv420p, so width and height must be
-  // even). Throws std::runtime_error when the size is odd or ffmpeg cannot be started.
+  // even). Throws std::runtime_error when the size is odd or ffmpeg cannot be started. Sets
+  // SIGPIPE to be ignored (for the process) so that an ffmpeg that died fails a write instead.
   VideoWriter(const std::string& path, int width, int height, double fps);
   ~VideoWriter();  // stops ffmpeg and removes the temporary file unless finished
   VideoWriter(const VideoWriter&) = delete;

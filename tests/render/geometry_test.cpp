@@ -31,7 +31,7 @@ TEST(SceneGeometry, PendulumVisualsFollowTheLinks) {
   const auto scene = saltus::scene::loadScene("pendulum_conveyor");
   std::ostringstream warnings;
   const SceneGeometry g(scene, warnings);
-  ASSERT_EQ(g.shapes().size(), 3u);  // two cylinders and the tip sphere (double_pendulum.urdf)
+  ASSERT_EQ(g.shapes().size(), 4u);  // the pivot, two cylinders and the tip sphere (double_pendulum.urdf)
   // θ1 = π/2 about y
   Eigen::VectorXd q(2);
   q << M_PI / 2, 0;
@@ -39,8 +39,9 @@ TEST(SceneGeometry, PendulumVisualsFollowTheLinks) {
   // the tip is 1 m from the pivot along the rotated −z axis
   const Eigen::Vector3d tip = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * Eigen::Vector3d(0, 0, -1);
   EXPECT_TRUE(pose.p_contact[0].isApprox(tip, 1e-12));
-  EXPECT_TRUE(pose.X_WG[2].translation().isApprox(tip, 1e-12));  // tip sphere
-  EXPECT_TRUE(pose.X_WG[0].translation().isApprox(tip / 4, 1e-12));  // link 1 cylinder centre
+  EXPECT_TRUE(pose.X_WG[0].translation().isZero());                 // pivot
+  EXPECT_TRUE(pose.X_WG[3].translation().isApprox(tip, 1e-12));      // tip sphere
+  EXPECT_TRUE(pose.X_WG[1].translation().isApprox(tip / 4, 1e-12));  // link 1 cylinder centre
 }
 
 TEST(SceneGeometry, LinksWithoutVisualsGetCapsulesToTheirChildren) {
@@ -59,12 +60,12 @@ TEST(SceneGeometry, LinksWithoutVisualsGetCapsulesToTheirChildren) {
   scene.model = b.build(saltus::dynamics::BaseType::Fixed);
   std::ostringstream warnings;
   const SceneGeometry g(scene, warnings);
-  ASSERT_EQ(g.shapes().size(), 2u);  // a: joint -> child joint (0.4 m); b: joint -> com (0.3 m)
+  ASSERT_EQ(g.shapes().size(), 3u);  // a: joint -> child joint (0.4 m); b: joint -> com (0.3 m); the pivot
   const auto pose = g.pose(Eigen::VectorXd::Zero(2));
   const auto box = g.bounds(pose);
   const double r = g.meshes()[g.shapes()[0].mesh].hi.x();  // capsule radius
   EXPECT_NEAR(box.lo.z(), -0.7 - r, 1e-6);
-  EXPECT_NEAR(box.hi.z(), r, 1e-6);
+  EXPECT_NEAR(box.hi.z(), 2 * r, 1e-6);  // the pivot sphere, radius twice the capsules'
 }
 
 TEST(SceneGeometry, UnreadableMeshIsACapsuleReportedOnce) {
