@@ -2,7 +2,10 @@
 // has none, posed by forward kinematics; belt travel.
 #include "render/geometry.hpp"
 
+#include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -95,6 +98,24 @@ TEST(SceneGeometry, BeltTravelIntegratesTheVelocitySchedule) {
   EXPECT_NEAR(saltus::render::surfaceTravel(belt, d, 0.5), 0.1 - 0.2, 1e-12);
   saltus::scene::Surface ground;
   EXPECT_EQ(saltus::render::beltDirection(ground).norm(), 0);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(SceneGeometry, MeshFileLoadsThroughAssimp) {
+  const auto path = std::filesystem::temp_directory_path() / ("saltus_geometry_" + std::to_string(::getpid()) + ".obj");
+  std::ofstream(path) << "v 0 0 0\nv 2 0 0\nv 0 1 0\nv 0 0 3\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";  // a tetrahedron
+  saltus::render::Mesh mesh;
+  std::string why;
+  ASSERT_TRUE(saltus::render::loadMeshFile(path.string(), mesh, &why)) << why;
+  EXPECT_EQ(mesh.triangles.size(), 12u);
+  EXPECT_TRUE(mesh.lo.isZero());
+  EXPECT_TRUE(mesh.hi.isApprox(Eigen::Vector3d(2, 1, 3)));
+  std::filesystem::remove(path);
+  EXPECT_FALSE(saltus::render::loadMeshFile("/nonexistent/x.stl", mesh, &why));
+  EXPECT_FALSE(why.empty());
 }
 
 }  // namespace
