@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
       cli::addSimulateCommand(app),
       cli::addOptimizeCommand(app),
       cli::addBenchCommand(app),
+      cli::addRenderCommand(app),
   };
 
   // CLI11 would call a missing or unknown command "required"; name them instead.

@@ -1,0 +1,173 @@
+#include "render/animation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "render/image_io.hpp"
+
+namespace saltus::render {
+
+namespace {
+
+// A round length near x: 1, 2 or 5 times a power of ten.
+double roundLength(double x) {
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  const double m = x / p;
+  return (m < 1.5 ? 1 : m < 3.5 ? 2 : 5) * p;
+}
+
+}  // namespace
+
+CameraMode parseCameraMode(const std::string& name) {
+  if (name == "auto") return CameraMode::Auto;
+  if (name == "follow") return CameraMode::Follow;
+  if (name == "side") return CameraMode::Side;
+  if (name == "top") return CameraMode::Top;
+  throw std::invalid_argument("unknown camera '" + name + "' (expected auto, follow, side or top)");
+}
+
+Animation::Animation(const scene::Scene& scene, const TrajectorySource& source, const AnimationOptions& options,
+                     std::ostream& warnings)
+    : scene_(scene), source_(source), options_(options), geometry_(scene, warnings) {
+  if (!(options.fps > 0) || !std::isfinite(options.fps) || options.fps > 1000)
+    throw std::invalid_argument("fps must be a number in (0, 1000], got " + std::to_string(options.fps));
+  if (!(options.speed > 0) || !std::isfinite(options.speed))
+    throw std::invalid_argument("speed must be a positive number, got " + std::to_string(options.speed));
+  if (options.width < 2 || options.height < 2 || options.width > 8192 || options.height > 8192)
+    throw std::invalid_argument("image size must be 2 … 8192 pixels each way, got " + std::to_string(options.width) +
+                                "x" + std::to_string(options.height));
+
+  // Frame times: t0 + k · speed / fps up to the end of the trajectory.
+  const double t0 = source.startTime(), t1 = source.endTime();
+  const double step = options.speed / options.fps;
+  const long n = static_cast<long>(std::floor((t1 - t0) / step + 1e-9)) + 1;
+  if (n > 1000000) throw std::invalid_argument("more than a million frames: lower the fps or raise the speed");
+  for (long k = 0; k < n; ++k) times_.push_back(t0 + k * step);
+
+  // Poses and bounds; contact points also count projected onto their surfaces, so the surface
+  // under the model is in view.
+  for (double t : times_) {
+    poses_.push_back(geometry_.pose(source.q(t)));
+    Bounds b = geometry_.bounds(poses_.back());
+    centers_.push_back(b.center());
+    bounds_.add(b);
+  }
+  for (const SceneGeometry::Pose& pose : poses_)
+    for (std::size_t c = 0; c < scene.contacts.size(); ++c) {
+      const scene::Surface& s = scene.surfaces[scene.contacts[c].surface];
+      bounds_.add(pose.p_contact[c] - s.gap(pose.p_contact[c]) * s.normal);
+    }
+  if (bounds_.empty()) bounds_.addSphere(Eigen::Vector3d::Zero(), 0.5);
+  radius_ = std::max(0.5 * bounds_.size().norm(), geometry_.characteristicLength());
+
+  // Camera direction (from the target towards the camera) and distance.
+  switch (options.camera) {
+    case CameraMode::Auto:
+    case CameraMode::Follow: direction_ = Eigen::Vector3d(0.35, -1, 0.4).normalized(); break;
+    case CameraMode::Side: direction_ = Eigen::Vector3d(0, -1, 0.05).normalized(); break;
+    case CameraMode::Top: direction_ = Eigen::Vector3d(0, -0.05, 1).normalized(); break;
+  }
+  const double fov = 0.6, aspect = double(options.width) / options.height, margin = 0.85;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  // Framing keeps a small box around very thin bounds (a point mass moving on a line).
+  Bounds framed = bounds_;
+  framed.addSphere(bounds_.center(), 0.25 * radius_);
+  if (options.camera == CameraMode::Follow) {
+    distance_ = 0;
+    for (const SceneGeometry::Pose& pose : poses_) {
+      Bounds b = geometry_.bounds(pose);
+      b.addSphere(b.center(), 0.5 * radius_);  // half the whole motion's size around the model
+      distance_ = std::max(distance_, fitDistance(b, b.center(), direction_, up, fov, aspect, margin));
+    }
+  } else {
+    distance_ = fitDistance(framed, framed.center(), direction_, up, fov, aspect, margin);
+  }
+
+  // Renderer settings scaled to the scene.
+  settings_.width = options.width;
+  settings_.height = options.height;
+  settings_.supersample = options.supersample;
+  settings_.surface_center = bounds_.center();
+  settings_.surface_extent = 3 * (radius_ + distance_);
+  settings_.tile = roundLength(radius_ / 2.5);
+  settings_.fog_start = distance_ + radius_;
+  settings_.fog_end = distance_ + 5 * radius_;
+  settings_.belt_width = std::max(radius_, 2 * geometry_.characteristicLength());
+  settings_.arrow_radius = 0.012 * radius_;
+
+  // Force arrows: the 90th percentile of the non-zero force magnitudes over the frames is drawn
+  // 0.3 radius long (a few impact-like peaks do not shrink the rest), and no arrow is longer
+  // than twice that.
+  std::vector<double> magnitudes;
+  for (double t : times_)
+    for (const ContactLoad& f : source.contactForces(t))
+      if (f.magnitude() > 0) magnitudes.push_back(f.magnitude());
+  if (!magnitudes.empty()) {
+    std::sort(magnitudes.begin(), magnitudes.end());
+    const double reference = magnitudes[static_cast<std::size_t>(0.9 * (magnitudes.size() - 1))];
+    if (reference > 0) force_scale_ = 0.3 * radius_ / reference;
+  }
+}
+
+Camera Animation::camera(int frame) const {
+  const double fov = 0.6;
+  const Eigen::Vector3d center = options_.camera == CameraMode::Follow ? centers_[frame] : bounds_.center();
+  Camera camera = lookFrom(center, direction_, distance_, fov, radius_);
+  camera.far = 2 * (settings_.surface_extent + distance_);
+  return camera;
+}
+
+FrameContent Animation::content(int frame) const {
+  const double t = times_[frame];
+  FrameContent out;
+  out.pose = poses_[frame];
+  for (const scene::Surface& s : scene_.surfaces) out.surface_shift.push_back(surfaceTravel(s, beltDirection(s), t));
+  const std::vector<ContactLoad> forces = source_.contactForces(t);
+  for (std::size_t c = 0; c < scene_.contacts.size() && c < forces.size(); ++c) {
+    const scene::Surface& s = scene_.surfaces[scene_.contacts[c].surface];
+    Eigen::Vector3d f = forces[c].world(s.normal, s.tangents()) * force_scale_;
+    const double longest = 0.6 * radius_;
+    if (f.norm() > longest) f *= longest / f.norm();
+    if (f.norm() > 0) out.arrows.push_back({out.pose.p_contact[c], f});
+  }
+  const double lifetime = options_.marker_seconds * options_.speed;  // trajectory time
+  for (const Impulse& impulse : source_.impulses()) {
+    if (impulse.t > t || t >= impulse.t + lifetime) continue;
+    const scene::Contact& contact = scene_.contacts[impulse.contact];
+    const scene::Surface& s = scene_.surfaces[contact.surface];
+    // where the contact point was at the impulse (positions are continuous there)
+    const Eigen::Vector3d p = geometry_.pose(source_.q(impulse.t)).p_contact[impulse.contact];
+    out.markers.push_back({p - s.gap(p) * s.normal, s.normal, 0.12 * radius_, (t - impulse.t) / lifetime});
+  }
+  return out;
+}
+
+int renderAnimation(const Animation& animation, const std::string& video_path, const std::string& frames_dir,
+                    const std::function<void(int, int)>& progress) {
+  Renderer renderer(animation.geometry(), animation.settings());
+  std::unique_ptr<VideoWriter> video;
+  if (!video_path.empty())
+    video = std::make_unique<VideoWriter>(video_path, renderer.width(), renderer.height(), animation.fps());
+  if (!frames_dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(frames_dir, error);
+    if (error) throw std::runtime_error(frames_dir + ": cannot create the frames directory (" + error.message() + ")");
+  }
+  const int n = animation.frames();
+  for (int k = 0; k < n; ++k) {
+    renderer.draw(animation.camera(k), animation.content(k));
+    if (!frames_dir.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.png", k);
+      writePng((std::filesystem::path(frames_dir) / name).string(), renderer.rgb(), renderer.width(), renderer.height());
+    }
+    if (video) video->addFrame(renderer.rgb());
+    if (progress) progress(k + 1, n);
+  }
+  if (video) video->finish();
+  return n;
+}
+
+}  // namespace saltus::render

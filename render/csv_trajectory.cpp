@@ -1,0 +1,207 @@
+#include "render/csv_trajectory.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+
+#include "dynamics/kinematics.hpp"
+
+namespace saltus::render {
+
+namespace {
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (!out.empty() && !out.back().empty() && out.back().back() == '\r') out.back().pop_back();
+  return out;
+}
+
+// Column indices of one contact's loads (−1: absent).
+struct LoadColumns {
+  int n = -1, t1 = -1, t2 = -1;
+  bool any() const { return n >= 0 || t1 >= 0 || t2 >= 0; }
+  ContactLoad read(const std::vector<double>& row) const {
+    ContactLoad l;
+    if (n >= 0) l.normal = row[n];
+    if (t1 >= 0) l.tangent[0] = row[t1];
+    if (t2 >= 0) l.tangent[1] = row[t2];
+    return l;
+  }
+};
+
+}  // namespace
+
+CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read trajectory (" + std::strerror(errno) + ")");
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty file, expected a CSV header starting with 't'");
+  const std::vector<std::string> header = splitFields(line);
+  std::map<std::string, int> column;
+  for (int i = 0; i < static_cast<int>(header.size()); ++i) column.emplace(header[i], i);
+  auto find = [&](const std::string& name) {
+    const auto it = column.find(name);
+    return it == column.end() ? -1 : it->second;
+  };
+  if (header.empty() || header[0] != "t")
+    throw std::runtime_error(path + ":1: expected the first column to be 't', got '" + (header.empty() ? "" : header[0]) + "'");
+
+  const dynamics::Model<double>& model = scene.model;
+  const int nq = model.nq();
+  std::vector<int> q_col(nq), v_col(nq);
+  bool have_v = true;
+  for (int k = 0; k < nq; ++k) {
+    q_col[k] = find("q." + model.coordinate_name[k]);
+    if (q_col[k] < 0)
+      throw std::runtime_error(path + ":1: no column 'q." + model.coordinate_name[k] + "' for coordinate '" +
+                               model.coordinate_name[k] + "' of model '" + model.name +
+                               "' (is this trajectory from another scene?)");
+    v_col[k] = find("v." + model.coordinate_name[k]);
+    have_v = have_v && v_col[k] >= 0;
+  }
+  const int nc = static_cast<int>(scene.contacts.size());
+  std::vector<LoadColumns> r_cols(nc), p_cols(nc);
+  for (int c = 0; c < nc; ++c) {
+    const std::string p = "contact." + scene.contacts[c].name + ".";
+    r_cols[c] = {find(p + "rn"), find(p + "rt") >= 0 ? find(p + "rt") : find(p + "rt1"), find(p + "rt2")};
+    p_cols[c] = {find(p + "pn"), find(p + "pt") >= 0 ? find(p + "pt") : find(p + "pt1"), find(p + "pt2")};
+    force_columns_ = force_columns_ || r_cols[c].any();
+  }
+
+  // Rows.
+  std::vector<std::vector<double>> rows;
+  for (int line_no = 2; std::getline(in, line); ++line_no) {
+    if (line.empty() || line == "\r") continue;
+    const std::vector<std::string> fields = splitFields(line);
+    if (fields.size() != header.size())
+      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": " + std::to_string(fields.size()) +
+                               " fields, the header has " + std::to_string(header.size()));
+    std::vector<double> row(fields.size());
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      const char* s = fields[i].c_str();
+      char* end = nullptr;
+      row[i] = std::strtod(s, &end);
+      if (end == s || *end != '\0')
+        throw std::runtime_error(path + ":" + std::to_string(line_no) + ": column '" + header[i] +
+                                 "': expected a number, got '" + fields[i] + "'");
+    }
+    if (!std::isfinite(row[0]))
+      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": t is not finite");
+    if (!rows.empty() && row[0] < rows.back()[0])
+      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": t = " + fields[0] +
+                               " is before the previous row's; times must not decrease");
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) throw std::runtime_error(path + ": no data rows after the header");
+
+  for (const auto& row : rows) {
+    t_.push_back(row[0]);
+    Eigen::VectorXd q(nq);
+    for (int k = 0; k < nq; ++k) q[k] = row[q_col[k]];
+    q_.push_back(q);
+  }
+
+  forces_.assign(nc, {});
+  if (force_columns_) {
+    double largest = 0;
+    for (const auto& row : rows)
+      for (int c = 0; c < nc; ++c) largest = std::max(largest, p_cols[c].read(row).magnitude());
+    const double threshold = std::max(1e-6, 1e-3 * largest);
+    for (const auto& row : rows)
+      for (int c = 0; c < nc; ++c) {
+        const ContactLoad r = r_cols[c].read(row);
+        if (r.normal != 0 || r.tangent[0] != 0 || r.tangent[1] != 0) forces_[c].emplace_back(row[0], r);
+        const ContactLoad p = p_cols[c].read(row);
+        if (p.magnitude() > threshold) impulses_.push_back({row[0], c, p});
+      }
+  } else {
+    // Time-stepper rows: classify each step's impulse as an impact or a mean force (see header).
+    dynamics::Data<double> data(model);
+    std::vector<std::vector<Eigen::Vector3d>> v_point(rows.size(), std::vector<Eigen::Vector3d>(nc, Eigen::Vector3d::Zero()));
+    if (have_v) {
+      Eigen::VectorXd q(nq), v(nq);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        for (int k = 0; k < nq; ++k) {
+          q[k] = rows[i][q_col[k]];
+          v[k] = rows[i][v_col[k]];
+        }
+        dynamics::forwardKinematics(model, data, q, v);
+        for (int c = 0; c < nc; ++c)
+          v_point[i][c] = dynamics::pointVelocity(data, scene.contacts[c].body, scene.contacts[c].p_B);
+      }
+    }
+    const double g = model.gravity.norm();
+    for (int c = 0; c < nc; ++c) forces_[c].emplace_back(t_.front(), ContactLoad{});
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      const double dt = t_[i] - t_[i - 1];
+      for (int c = 0; c < nc; ++c) {
+        const ContactLoad p = p_cols[c].read(rows[i]);
+        ContactLoad f;
+        if (p.magnitude() > 0 && dt > 0) {
+          const double dv = (v_point[i][c] - v_point[i - 1][c]).norm();
+          if (dv > 20 * g * dt) {
+            impulses_.push_back({t_[i], c, p});
+          } else {
+            f.normal = p.normal / dt;
+            f.tangent = p.tangent / dt;
+          }
+        }
+        forces_[c].emplace_back(t_[i], f);
+      }
+    }
+  }
+  std::stable_sort(impulses_.begin(), impulses_.end(), [](const Impulse& a, const Impulse& b) { return a.t < b.t; });
+}
+
+Eigen::VectorXd CsvTrajectory::q(double t) const {
+  if (t <= t_.front()) return q_.front();
+  if (t >= t_.back()) return q_.back();
+  // first row with time > t; the row before it has time ≤ t (at a jump: the "after" row)
+  const std::size_t hi = std::upper_bound(t_.begin(), t_.end(), t) - t_.begin();
+  const std::size_t lo = hi - 1;
+  const double h = t_[hi] - t_[lo];  // > 0: t_[lo] ≤ t < t_[hi]
+  const double s = (t - t_[lo]) / h;
+  return (1 - s) * q_[lo] + s * q_[hi];
+}
+
+std::vector<ContactLoad> CsvTrajectory::contactForces(double t) const {
+  std::vector<ContactLoad> out(forces_.size());
+  for (std::size_t c = 0; c < forces_.size(); ++c) {
+    const auto& samples = forces_[c];
+    if (samples.empty()) continue;
+    // first sample with time ≥ t
+    const auto it = std::lower_bound(samples.begin(), samples.end(), t,
+                                     [](const auto& s, double x) { return s.first < x; });
+    if (!force_columns_) {
+      // held over (previous time, this time]
+      if (it != samples.end()) out[c] = it->second;
+      continue;
+    }
+    if (it == samples.end()) {
+      out[c] = samples.back().second;
+    } else if (it == samples.begin() || it->first == t) {
+      out[c] = it->second;
+    } else {
+      const auto& a = *(it - 1);
+      const auto& b = *it;
+      const double s = b.first > a.first ? (t - a.first) / (b.first - a.first) : 1.0;
+      out[c].normal = (1 - s) * a.second.normal + s * b.second.normal;
+      out[c].tangent = (1 - s) * a.second.tangent + s * b.second.tangent;
+    }
+  }
+  return out;
+}
+
+}  // namespace saltus::render

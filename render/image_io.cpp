@@ -1,0 +1,171 @@
+#include "render/image_io.hpp"
+
+#include <png.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace saltus::render {
+
+namespace {
+
+std::string tempName(const std::string& path, const std::string& suffix = "") {
+  return path + ".tmp-" + std::to_string(::getpid()) + suffix;
+}
+
+// libpng reports errors through a callback that must not return: throw from it (libpng is C,
+// but built with unwinding tables on Debian; the png structs are freed by the caller's guard).
+[[noreturn]] void pngError(png_structp, png_const_charp message) { throw std::runtime_error(message); }
+void pngWarning(png_structp, png_const_charp) {}
+
+struct FileCloser {
+  std::FILE* f;
+  ~FileCloser() {
+    if (f) std::fclose(f);
+  }
+};
+
+std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Whether `program` can be run: an executable path, or found in PATH.
+bool findProgram(const std::string& program) {
+  if (program.find('/') != std::string::npos) return ::access(program.c_str(), X_OK) == 0;
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string dir; std::getline(dirs, dir, ':');) {
+    const std::string candidate = (dir.empty() ? "." : dir) + "/" + program;
+    struct stat st {};
+    if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(candidate.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+// The last `lines` lines of a file.
+std::string tail(const std::string& path, int lines) {
+  std::ifstream in(path);
+  std::vector<std::string> kept;
+  for (std::string line; std::getline(in, line);) {
+    kept.push_back(line);
+    if (static_cast<int>(kept.size()) > lines) kept.erase(kept.begin());
+  }
+  std::string out;
+  for (const std::string& line : kept) out += "\n  " + line;
+  return out;
+}
+
+}  // namespace
+
+void writePng(const std::string& path, const std::vector<std::uint8_t>& rgb, int width, int height) {
+  if (rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    throw std::runtime_error(path + ": image buffer does not hold " + std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");
+  const std::string tmp = tempName(path);
+  FileCloser file{std::fopen(tmp.c_str(), "wb")};
+  if (!file.f) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, pngError, pngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  try {
+    if (!info) throw std::runtime_error("out of memory");
+    png_init_io(png, file.f);
+    png_set_IHDR(png, info, width, height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, 3);  // frames: speed over size
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y) png_write_row(png, rgb.data() + static_cast<std::size_t>(y) * width * 3);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+  } catch (const std::exception& e) {
+    png_destroy_write_struct(&png, &info);
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write PNG (" + e.what() + ")");
+  }
+  const bool failed = std::fclose(file.f) != 0;
+  file.f = nullptr;
+  if (failed || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
+  }
+}
+
+std::vector<std::uint8_t> readPng(const std::string& path, int* width, int* height) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str()))
+    throw std::runtime_error(path + ": cannot read PNG (" + image.message + ")");
+  image.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> rgb(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, rgb.data(), 0, nullptr)) {
+    png_image_free(&image);
+    throw std::runtime_error(path + ": cannot read PNG (" + image.message + ")");
+  }
+  *width = static_cast<int>(image.width);
+  *height = static_cast<int>(image.height);
+  return rgb;
+}
+
+VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
+    : path_(path), tmp_path_(tempName(path, ".mp4")), log_path_(tempName(path, ".ffmpeg.log")), width_(width),
+      height_(height) {
+  if (width % 2 != 0 || height % 2 != 0)
+    throw std::runtime_error(path + ": H.264 (yuv420p) needs an even width and height, got " + std::to_string(width) +
+                             "x" + std::to_string(height));
+  const char* env = std::getenv("SALTUS_FFMPEG");
+  program_ = env && *env ? env : "ffmpeg";
+  if (!findProgram(program_))
+    throw std::runtime_error("cannot encode " + path + ": the program '" + program_ +
+                             "' was not found (install Debian's ffmpeg package, or set SALTUS_FFMPEG)");
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%.10g", fps);
+  const std::string command = shellQuote(program_) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
+                              std::to_string(width) + "x" + std::to_string(height) + " -framerate " + rate +
+                              " -i - -an -c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -movflags +faststart -f mp4 " +
+                              shellQuote(tmp_path_) + " 2>" + shellQuote(log_path_);
+  // A pipe whose reader died must fail the write (EPIPE), not kill the process.
+  std::signal(SIGPIPE, SIG_IGN);
+  pipe_ = ::popen(command.c_str(), "w");
+  if (!pipe_) throw std::runtime_error("cannot encode " + path + ": cannot start " + program_ + " (" + std::strerror(errno) + ")");
+}
+
+VideoWriter::~VideoWriter() {
+  if (pipe_) ::pclose(pipe_);
+  if (!finished_) std::remove(tmp_path_.c_str());
+  std::remove(log_path_.c_str());
+}
+
+std::string VideoWriter::failure(const std::string& what) const {
+  return "cannot encode " + path_ + ": " + program_ + " " + what + "; its last messages:" + tail(log_path_, 8);
+}
+
+void VideoWriter::addFrame(const std::vector<std::uint8_t>& rgb) {
+  if (rgb.size() != static_cast<std::size_t>(width_) * height_ * 3)
+    throw std::runtime_error(path_ + ": frame is not " + std::to_string(width_) + "x" + std::to_string(height_) + " RGB");
+  if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) {
+    ::pclose(pipe_);
+    pipe_ = nullptr;
+    throw std::runtime_error(failure("stopped reading frames"));
+  }
+}
+
+void VideoWriter::finish() {
+  const int status = ::pclose(pipe_);
+  pipe_ = nullptr;
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error(failure(WIFEXITED(status) ? "failed with exit status " + std::to_string(WEXITSTATUS(status))
+                                                       : std::string("was killed")));
+  if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
+    throw std::runtime_error(path_ + ": cannot rename the finished video into place (" + std::strerror(errno) + ")");
+  finished_ = true;
+}
+
+}  // namespace saltus::render
