@@ -14,7 +14,7 @@ namespace saltus::collocation {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double g = 9.81;
+constexpr double kG = 9.81;
 
 struct SavedSolutionTest : ::testing::Test {
   void SetUp() override {
@@ -34,9 +34,9 @@ struct SavedSolutionTest : ::testing::Test {
       x[L.h] = 0.01;
       for (std::size_t p = 0; p < L.points.size(); ++p) {
         const double s = t0 + 0.01 * L.tau[p];
-        x[L.points[p].q] = 0.15 - g * s * s / 2;
-        x[L.points[p].v] = -g * s;
-        if (L.points[p].a >= 0) x[L.points[p].a] = p == 0 ? 0.0 : -g;
+        x[L.points[p].q] = 0.15 - kG * s * s / 2;
+        x[L.points[p].v] = -kG * s;
+        if (L.points[p].a >= 0) x[L.points[p].a] = p == 0 ? 0.0 : -kG;
       }
       t0 += 0.01;
     }
@@ -142,9 +142,11 @@ TEST_F(SavedSolutionTest, SeedResamplesAnotherMeshAndMethodFromThePolynomials) {
       EXPECT_NEAR(seed[L.h], std::min(0.2 / target.elements(), target.variableUpper()[L.h]), 1e-15);
       for (std::size_t p2 = 0; p2 < L.points.size(); ++p2) {
         const double time = t0 + seed[L.h] * L.tau[p2];
-        EXPECT_NEAR(seed[L.points[p2].q], 0.15 - g * time * time / 2, 1e-12) << toString(m) << " t = " << time;
-        EXPECT_NEAR(seed[L.points[p2].v], -g * time, 1e-12);
-        if (L.points[p2].a >= 0 && p2 > 0) EXPECT_NEAR(seed[L.points[p2].a], -g, 1e-12);
+        EXPECT_NEAR(seed[L.points[p2].q], 0.15 - kG * time * time / 2, 1e-12) << toString(m) << " t = " << time;
+        EXPECT_NEAR(seed[L.points[p2].v], -kG * time, 1e-12);
+        if (L.points[p2].a >= 0 && p2 > 0) {
+          EXPECT_NEAR(seed[L.points[p2].a], -kG, 1e-12);
+        }
       }
       t0 += seed[L.h];
     }
