@@ -122,6 +122,8 @@ class TimeStepper {
 
  private:
   void buildRows(double t_next);
+  void delassus(int rows);
+  void applyImpulses(int rows, Eigen::VectorXd& v);
   void solveLcp(int nz);
   void project();
   bool measureContacts();
@@ -139,8 +141,13 @@ class TimeStepper {
   // Active rows: normal rows first (contacts then limits), then the friction rows.
   std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
   std::vector<double> active_gap_, active_e_;
-  Eigen::MatrixXd N_, D_, MinvNt_, MinvDt_;  // m × nv, f × nv and their M⁻¹ (·)ᵀ
+  // J_ = [N; D]: the m normal rows, then the f friction rows (each row of J_ is a row of N or D).
+  // With M = L Lᵀ (llt_), Y_ = L⁻¹ J_ᵀ, so the Delassus matrix is W = J M⁻¹ Jᵀ = Yᵀ Y: one
+  // forward substitution per row and symmetric by construction; the impulses act through one
+  // solve M⁻¹ (Jᵀ z) of a vector.
+  Eigen::MatrixXd J_, Y_;                    // (m + f) × nv, nv × (m + f)
   Eigen::VectorXd surface_velocity_;         // d_ij · v_surface for each friction row
+  Eigen::VectorXd impulse_;                  // Jᵀ z, then M⁻¹ Jᵀ z
   Eigen::MatrixXd A_;                        // LCP matrix
   Eigen::VectorXd b_, z_, w_;                // LCP vector and solution
   LcpSolver solver_;
