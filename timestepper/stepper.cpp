@@ -10,6 +10,38 @@
 #include "dynamics/rnea.hpp"
 
 namespace saltus::timestepper {
+namespace {
+
+// Triangular solves with the Cholesky factor M = L Lᵀ, L in the lower triangle of `factor`
+// (Eigen's LLT storage), written out: the stepper's systems have a few coordinates, where the
+// set-up of Eigen's blocked triangular solvers costs more than the arithmetic.
+// x ← L⁻¹ x, forward substitution by columns (G. H. Golub & C. F. Van Loan, "Matrix
+// Computations", 4th ed., Alg. 3.1.3).
+void forwardSubstitute(const Eigen::MatrixXd& factor, double* x) {
+  const int n = static_cast<int>(factor.rows());
+  for (int k = 0; k < n; ++k) {
+    x[k] /= factor(k, k);
+    const double* const l = &factor(0, k);
+    for (int i = k + 1; i < n; ++i) x[i] -= l[i] * x[k];
+  }
+}
+// x ← L⁻ᵀ x, back substitution by rows of Lᵀ, i.e. columns of L (ibid., Alg. 3.1.2).
+void backSubstitute(const Eigen::MatrixXd& factor, double* x) {
+  const int n = static_cast<int>(factor.rows());
+  for (int i = n - 1; i >= 0; --i) {
+    const double* const l = &factor(0, i);
+    double s = x[i];
+    for (int k = i + 1; k < n; ++k) s -= l[k] * x[k];
+    x[i] = s / l[i];
+  }
+}
+// x ← M⁻¹ x = L⁻ᵀ L⁻¹ x.
+void choleskySolve(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
+  forwardSubstitute(factor, x.data());
+  backSubstitute(factor, x.data());
+}
+
+}  // namespace
 
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
@@ -119,20 +151,14 @@ void TimeStepper::buildRows(double t_next) {
   }
 }
 
-// Y = L⁻¹ Jᵀ for the first `rows` rows of J (forward substitution by columns, G. H. Golub &
-// C. F. Van Loan, "Matrix Computations", 4th ed., Alg. 3.1.3, on each row of J), and the Delassus
-// matrix W = J M⁻¹ Jᵀ = Yᵀ Y into the top-left corner of A_, lower triangle mirrored. Needs llt_.
+// Y = L⁻¹ Jᵀ for the first `rows` rows of J, and the Delassus matrix W = J M⁻¹ Jᵀ = Yᵀ Y into
+// the top-left corner of A_, lower triangle mirrored. Needs llt_.
 void TimeStepper::delassus(int rows) {
   const int nv = scene_.model.nv();
-  const Eigen::MatrixXd& L = llt_.matrixLLT();  // lower triangle: L
   for (int r = 0; r < rows; ++r) {
     double* const y = &Y_(0, r);
     for (int i = 0; i < nv; ++i) y[i] = J_(r, i);
-    for (int k = 0; k < nv; ++k) {
-      y[k] /= L(k, k);
-      const double* const l = &L(0, k);
-      for (int i = k + 1; i < nv; ++i) y[i] -= l[i] * y[k];
-    }
+    forwardSubstitute(llt_.matrixLLT(), y);
   }
   for (int j = 0; j < rows; ++j)
     for (int i = j; i < rows; ++i) A_(i, j) = A_(j, i) = Y_.col(i).dot(Y_.col(j));
@@ -141,7 +167,7 @@ void TimeStepper::delassus(int rows) {
 // v += M⁻¹ Jᵀ z for the first `rows` rows of J and entries of z_.
 void TimeStepper::applyImpulses(int rows, Eigen::VectorXd& v) {
   impulse_.noalias() = J_.topRows(rows).transpose() * z_.head(rows);
-  llt_.solveInPlace(impulse_);
+  choleskySolve(llt_.matrixLLT(), impulse_);
   v += impulse_;
 }
 
@@ -287,11 +313,11 @@ void TimeStepper::step() {
   if (llt_.info() != Eigen::Success)
     throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);
   rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_);
-  llt_.solveInPlace(rhs_);
+  choleskySolve(llt_.matrixLLT(), rhs_);
   if (theta < 1) {  // forces at the predicted v_θ
     v_theta_ = v_ + (1 - theta) * h * rhs_;
     rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_theta_);
-    llt_.solveInPlace(rhs_);
+    choleskySolve(llt_.matrixLLT(), rhs_);
   }
   v_free_ = v_ + h * rhs_;
   buildRows(t_ + h);
