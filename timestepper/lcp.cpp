@@ -332,14 +332,27 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
     for (int i = 0; i < n; ++i) x[i] += residual[k] * column[i];
   }
 
-  // z = D_c ẑ (exact: powers of two; round-off below zero cut off), w = M z + q from the
-  // original data, and the magnitude |q| + |M| z of the terms summed into each w_i.
-  double* const w_magnitude = row_norm;
+  // z = D_c ẑ (exact: powers of two; round-off below zero cut off).
   for (int i = 0; i < n; ++i) z[i] = 0;
   for (int i = 0; i < n; ++i) {
     const int v = basic_variable_[i];
     if (v >= n && v < z0) z[v - n] = std::max(0.0, column_scaling[v - n] * x[i]);
   }
+  const Acceptance acceptance = accept(M_original, q_original, z, w);
+  if (acceptance == Acceptance::NonFinite) return nonFinite(z, w, pivots);
+  if (acceptance == Acceptance::Accepted) status = LcpStatus::Solved;
+  else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
+  return {status, pivots, complementarityResidual(z, w)};
+}
+
+// w = M z + q from the original data, and whether z, w pass the check (lcp.hpp, solveLemke).
+// Needs row_scaling_ of the equilibration of M.
+LcpSolver::Acceptance LcpSolver::accept(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
+                                        const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w) {
+  const int n = static_cast<int>(q_original.size());
+  const double* const row_scaling = row_scaling_.data();
+  // The magnitude |q| + |M| z of the terms summed into each w_i.
+  double* const w_magnitude = row_norm_.data();
   for (int i = 0; i < n; ++i) {
     w[i] = q_original[i];
     w_magnitude[i] = std::abs(q_original[i]);
@@ -354,7 +367,7 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
   }
   bool finite = true;
   for (int i = 0; i < n; ++i) finite = finite && std::isfinite(z[i]) && std::isfinite(w[i]);
-  if (!finite) return nonFinite(z, w, pivots);
+  if (!finite) return Acceptance::NonFinite;
   // Acceptance: w_i ≥ 0, and w_i = 0 where z_i > 0, each to a fraction of the magnitude
   // |q_i| + (|M| z)_i of its terms (then z solves the LCP of a slightly perturbed M and q), plus
   // a floor at round-off of the largest such magnitude, compared in equilibrated units
@@ -370,9 +383,72 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
     const double tolerance = kLemkeAcceptance * row_scaling[i] * w_magnitude[i] + noise_floor;
     if (w_hat < -tolerance || (z[i] > 0 && w_hat > tolerance)) accepted = false;
   }
-  if (accepted) status = LcpStatus::Solved;
-  else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
-  return {status, pivots, complementarityResidual(z, w)};
+  return accepted ? Acceptance::Accepted : Acceptance::Rejected;
+}
+
+LcpResult LcpSolver::solveLemkeWarm(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
+                                    Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
+  checkSizes(M_original, q_original, z, w);
+  const int n = static_cast<int>(q_original.size());
+  if (!M_original.allFinite() || !q_original.allFinite()) return nonFinite(z, w, 0);
+  // The guessed index set P = {i : z_i > 0}; none (or the trivial solution z = 0): cold start.
+  int p = 0;
+  for (int i = 0; i < n; ++i)
+    if (z[i] > 0) tied_rows_[p++] = i;
+  if (p == 0 || q_original.minCoeff() >= 0) return solveLemke(M_original, q_original, z, w, max_pivots);
+
+  // M̂_PP ẑ_P = −q̂_P on the equilibrated problem, by Gaussian elimination with partial pivoting
+  // (Golub & Van Loan, Alg. 3.4.1) in the workspace of B⁻¹; a pivot below round-off of its
+  // column means M̂_PP is (numerically) singular: cold start.
+  equilibrate(M_original, n);
+  const auto M = scaled_matrix_.topLeftCorner(n, n);
+  const int* const set = tied_rows_.data();
+  auto G = basis_inverse_.topLeftCorner(p, p);
+  double* const x = basic_value_.data();
+  for (int j = 0; j < p; ++j) {
+    for (int i = 0; i < p; ++i) G(i, j) = M(set[i], set[j]);
+    x[j] = -row_scaling_[set[j]] * q_original[set[j]];
+  }
+  bool singular = false;
+  for (int k = 0; k < p && !singular; ++k) {
+    int r = k;
+    double column_max = 0;
+    for (int i = k; i < p; ++i) {
+      column_max = std::max(column_max, std::abs(G(i, k)));
+      if (std::abs(G(i, k)) > std::abs(G(r, k))) r = i;
+    }
+    for (int i = 0; i < k; ++i) column_max = std::max(column_max, std::abs(G(i, k)));
+    if (!(std::abs(G(r, k)) > kPivotTolerance * column_max)) {
+      singular = true;
+      break;
+    }
+    if (r != k) {
+      for (int j = k; j < p; ++j) std::swap(G(k, j), G(r, j));
+      std::swap(x[k], x[r]);
+    }
+    for (int i = k + 1; i < p; ++i) {
+      const double l = G(i, k) / G(k, k);
+      for (int j = k + 1; j < p; ++j) G(i, j) -= l * G(k, j);
+      x[i] -= l * x[k];
+    }
+  }
+  if (!singular) {
+    for (int i = p - 1; i >= 0; --i) {  // back substitution
+      double s = x[i];
+      for (int j = i + 1; j < p; ++j) s -= G(i, j) * x[j];
+      x[i] = s / G(i, i);
+    }
+    // z = D_c ẑ, round-off below zero cut off; the same acceptance check as Lemke's result.
+    bool nonnegative = true;
+    for (int i = 0; i < n; ++i) z[i] = 0;
+    for (int j = 0; j < p; ++j) {
+      nonnegative = nonnegative && x[j] >= 0;
+      z[set[j]] = std::max(0.0, column_scaling_[set[j]] * x[j]);
+    }
+    if (nonnegative && accept(M_original, q_original, z, w) == Acceptance::Accepted)
+      return {LcpStatus::Solved, 0, complementarityResidual(z, w)};
+  }
+  return solveLemke(M_original, q_original, z, w, max_pivots);
 }
 
 LcpResult LcpSolver::solvePgs(const ConstMatrixRef& M, const ConstVectorRef& q, Eigen::Ref<Eigen::VectorXd> z,

@@ -69,6 +69,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     directions_.push_back(scene_.surfaces[c.surface].coneDirections(c.directions));
   J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
+  solved_active_.reserve(m_max);
   active_gap_.reserve(m_max);
   active_e_.reserve(m_max);
   J_.resize(m_max + f_max, nv);
@@ -92,6 +93,7 @@ void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   v_ = v;
   t_ = t;
   for (ContactReport& r : reports_) r = ContactReport{};
+  solved_active_.clear();
   measureContacts();
   stats_ = StepperStats{};
 }
@@ -206,7 +208,13 @@ void TimeStepper::solveLcp(int nz) {
   auto z = z_.head(nz);
   auto w = w_.head(nz);
   if (options_.solver == LcpMethod::Lemke) {
-    result = solver_.solveLemke(A, b_.head(nz), z, w);
+    // The previous step's solution is a guess for the same active contacts (z_ still holds it).
+    if (options_.warm_start && active_ == solved_active_) {
+      result = solver_.solveLemkeWarm(A, b_.head(nz), z, w);
+      stats_.lcp_warm_solves += result.status == LcpStatus::Solved && result.iterations == 0;
+    } else
+      result = solver_.solveLemke(A, b_.head(nz), z, w);
+    solved_active_ = active_;
   } else {
     z.setZero();
     result = solver_.solvePgs(A, b_.head(nz), z, w, options_.pgs_iterations, options_.pgs_tolerance);
@@ -257,6 +265,7 @@ void TimeStepper::project() {
     active_.push_back(nc + l);
   }
   if (m_ == 0) return;
+  solved_active_.clear();  // z_ is about to hold the projection's solution
   delassus(m_);  // N M⁻¹ Nᵀ
   auto A = A_.topLeftCorner(m_, m_);
   auto z = z_.head(m_);
