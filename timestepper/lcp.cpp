@@ -110,13 +110,16 @@ void LcpSolver::checkSizes(const ConstMatrixRef& M, const ConstVectorRef& q, con
                                 std::to_string(capacity_));
 }
 
+// The loops below run over plain arrays: Lemke's problems here have a handful of rows, where the
+// set-up of one Eigen expression on a runtime-sized block costs as much as its arithmetic.
 void LcpSolver::equilibrate(const ConstMatrixRef& M, int n) {
   auto M_hat = scaled_matrix_.topLeftCorner(n, n);
-  auto row_scaling = row_scaling_.head(n), column_scaling = column_scaling_.head(n);
-  auto row_factor = row_factor_.head(n), column_factor = column_factor_.head(n);
+  double* const row_scaling = row_scaling_.data();
+  double* const column_scaling = column_scaling_.data();
+  double* const row_factor = row_factor_.data();
+  double* const column_factor = column_factor_.data();
   M_hat = M;
-  row_scaling.setOnes();
-  column_scaling.setOnes();
+  for (int i = 0; i < n; ++i) row_scaling[i] = column_scaling[i] = 1.0;
   // 1/√m rounded to a power of two, 2^−⌊e/2⌋ for m = 2^e · 1.x, read off the bits of normal
   // m; empty rows and columns (and subnormal maxima) keep factor 1.
   const auto factor = [](double m) {
@@ -125,19 +128,33 @@ void LcpSolver::equilibrate(const ConstMatrixRef& M, int n) {
     return std::bit_cast<double>(static_cast<std::uint64_t>(1023 - exponent / 2) << 52);
   };
   for (int sweep = 0; sweep < kEquilibrationSweeps; ++sweep) {
-    row_factor.setZero();
+    // Largest |entry| of every row and column, in one pass by columns.
+    for (int i = 0; i < n; ++i) row_factor[i] = 0;
     for (int j = 0; j < n; ++j) {
-      column_factor[j] = M_hat.col(j).cwiseAbs().maxCoeff();
-      row_factor = row_factor.cwiseMax(M_hat.col(j).cwiseAbs());
+      const double* const column = &M_hat.coeffRef(0, j);
+      double column_max = 0;
+      for (int i = 0; i < n; ++i) {
+        const double entry = std::abs(column[i]);
+        column_max = std::max(column_max, entry);
+        row_factor[i] = std::max(row_factor[i], entry);
+      }
+      column_factor[j] = column_max;
     }
+    bool unchanged = true;
     for (int i = 0; i < n; ++i) {
       row_factor[i] = factor(row_factor[i]);
       column_factor[i] = factor(column_factor[i]);
+      unchanged = unchanged && row_factor[i] == 1.0 && column_factor[i] == 1.0;
     }
-    if ((row_factor.array() == 1.0).all() && (column_factor.array() == 1.0).all()) break;
-    for (int j = 0; j < n; ++j) M_hat.col(j).array() *= column_factor[j] * row_factor.array();
-    row_scaling.array() *= row_factor.array();
-    column_scaling.array() *= column_factor.array();
+    if (unchanged) break;
+    for (int j = 0; j < n; ++j) {
+      double* const column = &M_hat.coeffRef(0, j);
+      for (int i = 0; i < n; ++i) column[i] *= column_factor[j] * row_factor[i];
+    }
+    for (int i = 0; i < n; ++i) {
+      row_scaling[i] *= row_factor[i];
+      column_scaling[i] *= column_factor[i];
+    }
   }
 }
 
@@ -155,67 +172,66 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
 
   equilibrate(M_original, n);
   const auto M = scaled_matrix_.topLeftCorner(n, n);
-  const auto row_scaling = row_scaling_.head(n), column_scaling = column_scaling_.head(n);
-  auto q = scaled_q_.head(n);
-  q = row_scaling.cwiseProduct(q_original);
+  const double* const row_scaling = row_scaling_.data();
+  const double* const column_scaling = column_scaling_.data();
+  double* const q = scaled_q_.data();
+  for (int i = 0; i < n; ++i) q[i] = row_scaling[i] * q_original[i];
 
   // Variables of I ŵ − M̂ ẑ − d z0 = q̂ (d = 1), labelled ŵ_j = j, ẑ_j = n + j, z0 = 2n. The
   // basis starts as ŵ: B = I, x_B = q̂. (Below, M and q are the equilibrated M̂ and q̂.)
   const int z0 = 2 * n;
   auto Binv = basis_inverse_.topLeftCorner(n, n);
-  auto x = basic_value_.head(n);
-  auto a = entering_column_.head(n);
-  auto row_norm = row_norm_.head(n);
-  auto a_magnitude = entering_column_magnitude_.head(n);
-  auto x_magnitude = basic_value_magnitude_.head(n);
-  auto pivot_row = pivot_row_.head(n);
-  auto ratio = ratio_.head(n);
+  double* const x = basic_value_.data();
+  double* const a = entering_column_.data();
+  double* const row_norm = row_norm_.data();
+  double* const a_magnitude = entering_column_magnitude_.data();
+  double* const x_magnitude = basic_value_magnitude_.data();
+  double* const pivot_row = pivot_row_.data();
+  double* const ratio = ratio_.data();
   Binv.setIdentity();
-  x = q;
-  for (int i = 0; i < n; ++i) basic_variable_[i] = i;
+  for (int i = 0; i < n; ++i) {
+    x[i] = q[i];
+    basic_variable_[i] = i;
+  }
 
   // Pivot on row r of the entering column a: row r of B⁻¹ and x_B is divided by a_r and
   // eliminated from the others (one Gauss–Jordan step, a rank-one update of B⁻¹).
   const auto pivot = [&](int r) {
     const double inverse = 1.0 / a[r];
     for (int k = 0; k < n; ++k) pivot_row[k] = Binv(r, k) * inverse;
-    const double* const a_data = a.data();
     for (int k = 0; k < n; ++k) {
       double* const b = &Binv.coeffRef(0, k);
       const double t = pivot_row[k];
-      for (int i = 0; i < n; ++i) b[i] -= t * a_data[i];
+      for (int i = 0; i < n; ++i) b[i] -= t * a[i];
       b[r] = t;
     }
     const double x_r = x[r] * inverse;
-    x -= x_r * a;
+    for (int i = 0; i < n; ++i) x[i] -= x_r * a[i];
     x[r] = x_r;
   };
 
   // a = B⁻¹ â_s for the entering variable's column â_s (e_j for ŵ_j, −M̂ e_j for ẑ_j), the row
   // norms ‖B⁻¹_i‖∞ and the round-off scales of a and x_B, in one pass over B⁻¹ by columns.
   const auto enteringColumn = [&](int entering) {
-    a.setZero();
-    row_norm.setZero();
-    a_magnitude.setZero();
-    x_magnitude.setZero();
-    const double column_max = entering < n ? 1.0 : M.col(entering - n).cwiseAbs().maxCoeff();
-    double* const a_data = a.data();
-    double* const row_norm_data = row_norm.data();
-    double* const a_magnitude_data = a_magnitude.data();
-    double* const x_magnitude_data = x_magnitude.data();
+    for (int i = 0; i < n; ++i) a[i] = row_norm[i] = a_magnitude[i] = x_magnitude[i] = 0;
+    double column_max = 1.0;
+    if (entering >= n) {
+      column_max = 0;
+      for (int k = 0; k < n; ++k) column_max = std::max(column_max, std::abs(M(k, entering - n)));
+    }
     for (int k = 0; k < n; ++k) {
       const double c = entering < n ? (k == entering ? 1.0 : 0.0) : -M(k, entering - n);
       const double c_abs = std::abs(c), q_abs = std::abs(q[k]);
       const double* const b = &Binv.coeffRef(0, k);
       for (int i = 0; i < n; ++i) {
         const double b_abs = std::abs(b[i]);
-        a_data[i] += c * b[i];
-        row_norm_data[i] = std::max(row_norm_data[i], b_abs);
-        a_magnitude_data[i] += c_abs * b_abs;
-        x_magnitude_data[i] += q_abs * b_abs;
+        a[i] += c * b[i];
+        row_norm[i] = std::max(row_norm[i], b_abs);
+        a_magnitude[i] += c_abs * b_abs;
+        x_magnitude[i] += q_abs * b_abs;
       }
     }
-    a_magnitude += column_max * row_norm;
+    for (int i = 0; i < n; ++i) a_magnitude[i] += column_max * row_norm[i];
   };
 
   // Is row c of [x_B  B⁻¹] / a lexicographically smaller than row b? x_B is already tied, so
@@ -234,10 +250,12 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
   // x_i / a_i; ties go to z0 (which ends the method) or else to the lexicographically smallest
   // row of B⁻¹ / a_i. Returns −1 when no a_i is positive: a secondary ray.
   const auto ratioTest = [&]() {
-    for (int i = 0; i < n; ++i)
+    int best = 0;
+    for (int i = 0; i < n; ++i) {
       ratio[i] = a[i] > kPivotTolerance * a_magnitude[i] ? std::max(x[i], 0.0) / a[i] : kInfinity;
-    int best;
-    const double best_ratio = ratio.minCoeff(&best);
+      if (ratio[i] < ratio[best]) best = i;  // the first smallest
+    }
+    const double best_ratio = ratio[best];
     if (best_ratio == kInfinity) return -1;
     // Round-off scale of x_i / a_i: (δx_i + ratio δa_i) / a_i.
     const auto noise = [&](int i) { return (x_magnitude[i] + ratio[i] * a_magnitude[i]) / a[i]; };
@@ -258,11 +276,12 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
 
   // z0 enters with column −d = −1 at the level that makes x_B ≥ 0: the row of the most
   // negative q̂_i leaves. Among ties the lexicographic minimum of (q̂_i, e_iᵀ) is the largest i.
-  const double q_min = q.minCoeff();
+  double q_min = q[0];
+  for (int i = 1; i < n; ++i) q_min = std::min(q_min, q[i]);
   int r = 0;
   for (int i = 0; i < n; ++i)
     if (q[i] <= q_min + kTieTolerance * std::abs(q_min)) r = i;
-  a.setConstant(-1.0);
+  for (int i = 0; i < n; ++i) a[i] = -1.0;
   pivot(r);
   int leaving = basic_variable_[r];
   basic_variable_[r] = z0;
@@ -295,48 +314,141 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
 
   // One step of iterative refinement of B x_B = q̂: the residual q̂ − B x_B, with columns e_j
   // for ŵ_j, −M̂ e_j for ẑ_j and −1 for z0, corrected through B⁻¹.
-  auto residual = pivot_row;
-  residual = q;
+  double* const residual = pivot_row;
+  for (int i = 0; i < n; ++i) residual[i] = q[i];
   for (int i = 0; i < n; ++i) {
     const int v = basic_variable_[i];
-    if (v < n) residual[v] -= x[i];
-    else if (v < z0) residual += x[i] * M.col(v - n);
-    else residual.array() += x[i];
+    if (v < n) {
+      residual[v] -= x[i];
+    } else if (v < z0) {
+      const double* const column = &M.coeffRef(0, v - n);
+      for (int k = 0; k < n; ++k) residual[k] += x[i] * column[k];
+    } else {
+      for (int k = 0; k < n; ++k) residual[k] += x[i];
+    }
   }
-  for (int k = 0; k < n; ++k) x += residual[k] * Binv.col(k);
+  for (int k = 0; k < n; ++k) {
+    const double* const column = &Binv.coeffRef(0, k);
+    for (int i = 0; i < n; ++i) x[i] += residual[k] * column[i];
+  }
 
-  // z = D_c ẑ (exact: powers of two; round-off below zero cut off), w = M z + q from the
-  // original data, and the magnitude |q| + |M| z of the terms summed into each w_i.
-  auto w_magnitude = row_norm;
-  z.setZero();
+  // z = D_c ẑ (exact: powers of two; round-off below zero cut off).
+  for (int i = 0; i < n; ++i) z[i] = 0;
   for (int i = 0; i < n; ++i) {
     const int v = basic_variable_[i];
     if (v >= n && v < z0) z[v - n] = std::max(0.0, column_scaling[v - n] * x[i]);
   }
-  w = q_original;
-  w_magnitude = q_original.cwiseAbs();
+  const Acceptance acceptance = accept(M_original, q_original, z, w);
+  if (acceptance == Acceptance::NonFinite) return nonFinite(z, w, pivots);
+  if (acceptance == Acceptance::Accepted) status = LcpStatus::Solved;
+  else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
+  return {status, pivots, complementarityResidual(z, w)};
+}
+
+// w = M z + q from the original data, and whether z, w pass the check (lcp.hpp, solveLemke).
+// Needs row_scaling_ of the equilibration of M.
+LcpSolver::Acceptance LcpSolver::accept(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
+                                        const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w) {
+  const int n = static_cast<int>(q_original.size());
+  const double* const row_scaling = row_scaling_.data();
+  // The magnitude |q| + |M| z of the terms summed into each w_i.
+  double* const w_magnitude = row_norm_.data();
+  for (int i = 0; i < n; ++i) {
+    w[i] = q_original[i];
+    w_magnitude[i] = std::abs(q_original[i]);
+  }
   for (int j = 0; j < n; ++j) {
     if (z[j] == 0) continue;
-    w += z[j] * M_original.col(j);
-    w_magnitude += z[j] * M_original.col(j).cwiseAbs();
+    const double* const column = &M_original.coeffRef(0, j);
+    for (int i = 0; i < n; ++i) {
+      w[i] += z[j] * column[i];
+      w_magnitude[i] += z[j] * std::abs(column[i]);
+    }
   }
-  if (!z.allFinite() || !w.allFinite()) return nonFinite(z, w, pivots);
+  bool finite = true;
+  for (int i = 0; i < n; ++i) finite = finite && std::isfinite(z[i]) && std::isfinite(w[i]);
+  if (!finite) return Acceptance::NonFinite;
   // Acceptance: w_i ≥ 0, and w_i = 0 where z_i > 0, each to a fraction of the magnitude
   // |q_i| + (|M| z)_i of its terms (then z solves the LCP of a slightly perturbed M and q), plus
   // a floor at round-off of the largest such magnitude, compared in equilibrated units
   // (ŵ = D_r w). A basis left by z0 that fails this is numerical breakdown; a ray or the pivot
   // limit reached with z0 at round-off level still leaves a solution, and a verified solution
   // is what counts.
-  const double noise_floor = kLemkeFloor * row_scaling.cwiseProduct(w_magnitude).maxCoeff();
+  double largest_magnitude = 0;
+  for (int i = 0; i < n; ++i) largest_magnitude = std::max(largest_magnitude, row_scaling[i] * w_magnitude[i]);
+  const double noise_floor = kLemkeFloor * largest_magnitude;
   bool accepted = true;
   for (int i = 0; i < n; ++i) {
     const double w_hat = row_scaling[i] * w[i];
     const double tolerance = kLemkeAcceptance * row_scaling[i] * w_magnitude[i] + noise_floor;
     if (w_hat < -tolerance || (z[i] > 0 && w_hat > tolerance)) accepted = false;
   }
-  if (accepted) status = LcpStatus::Solved;
-  else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
-  return {status, pivots, complementarityResidual(z, w)};
+  return accepted ? Acceptance::Accepted : Acceptance::Rejected;
+}
+
+LcpResult LcpSolver::solveLemkeWarm(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
+                                    Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
+  checkSizes(M_original, q_original, z, w);
+  const int n = static_cast<int>(q_original.size());
+  if (!M_original.allFinite() || !q_original.allFinite()) return nonFinite(z, w, 0);
+  // The guessed index set P = {i : z_i > 0}; none (or the trivial solution z = 0): cold start.
+  int p = 0;
+  for (int i = 0; i < n; ++i)
+    if (z[i] > 0) tied_rows_[p++] = i;
+  if (p == 0 || q_original.minCoeff() >= 0) return solveLemke(M_original, q_original, z, w, max_pivots);
+
+  // M̂_PP ẑ_P = −q̂_P on the equilibrated problem, by Gaussian elimination with partial pivoting
+  // (Golub & Van Loan, Alg. 3.4.1) in the workspace of B⁻¹; a pivot below round-off of its
+  // column means M̂_PP is (numerically) singular: cold start.
+  equilibrate(M_original, n);
+  const auto M = scaled_matrix_.topLeftCorner(n, n);
+  const int* const set = tied_rows_.data();
+  auto G = basis_inverse_.topLeftCorner(p, p);
+  double* const x = basic_value_.data();
+  for (int j = 0; j < p; ++j) {
+    for (int i = 0; i < p; ++i) G(i, j) = M(set[i], set[j]);
+    x[j] = -row_scaling_[set[j]] * q_original[set[j]];
+  }
+  bool singular = false;
+  for (int k = 0; k < p && !singular; ++k) {
+    int r = k;
+    double column_max = 0;
+    for (int i = k; i < p; ++i) {
+      column_max = std::max(column_max, std::abs(G(i, k)));
+      if (std::abs(G(i, k)) > std::abs(G(r, k))) r = i;
+    }
+    for (int i = 0; i < k; ++i) column_max = std::max(column_max, std::abs(G(i, k)));
+    if (!(std::abs(G(r, k)) > kPivotTolerance * column_max)) {
+      singular = true;
+      break;
+    }
+    if (r != k) {
+      for (int j = k; j < p; ++j) std::swap(G(k, j), G(r, j));
+      std::swap(x[k], x[r]);
+    }
+    for (int i = k + 1; i < p; ++i) {
+      const double l = G(i, k) / G(k, k);
+      for (int j = k + 1; j < p; ++j) G(i, j) -= l * G(k, j);
+      x[i] -= l * x[k];
+    }
+  }
+  if (!singular) {
+    for (int i = p - 1; i >= 0; --i) {  // back substitution
+      double s = x[i];
+      for (int j = i + 1; j < p; ++j) s -= G(i, j) * x[j];
+      x[i] = s / G(i, i);
+    }
+    // z = D_c ẑ, round-off below zero cut off; the same acceptance check as Lemke's result.
+    bool nonnegative = true;
+    for (int i = 0; i < n; ++i) z[i] = 0;
+    for (int j = 0; j < p; ++j) {
+      nonnegative = nonnegative && x[j] >= 0;
+      z[set[j]] = std::max(0.0, column_scaling_[set[j]] * x[j]);
+    }
+    if (nonnegative && accept(M_original, q_original, z, w) == Acceptance::Accepted)
+      return {LcpStatus::Solved, 0, complementarityResidual(z, w)};
+  }
+  return solveLemke(M_original, q_original, z, w, max_pivots);
 }
 
 LcpResult LcpSolver::solvePgs(const ConstMatrixRef& M, const ConstVectorRef& q, Eigen::Ref<Eigen::VectorXd> z,

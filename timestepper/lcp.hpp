@@ -65,6 +65,18 @@ class LcpSolver {
   LcpResult solveLemke(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
                        Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
 
+  // Lemke warm-started from a guess z (on entry, as for solvePgs): the complementary basis with
+  // z_i basic where the guess is positive (index set P) and w_i basic elsewhere is tried first,
+  // by solving M̂_PP ẑ_P = −q̂_P on the equilibrated problem (a principal pivot on P, CPS §4.1).
+  // Its basic solution is returned (iterations = 0) when ẑ_P ≥ 0 and it passes the same
+  // acceptance check as solveLemke's result; otherwise — M̂_PP singular, ẑ_P or w infeasible —
+  // solveLemke runs from its usual start. The time-stepper passes the previous step's solution
+  // when the active contacts are the same, and then usually no pivot is needed. Where the LCP has
+  // several solutions (e.g. the split of a sticking impulse between opposite cone directions)
+  // the one returned may differ from solveLemke's.
+  LcpResult solveLemkeWarm(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                           Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
+
   // Projected Gauss–Seidel / SOR (CPS chapter 5), warm-started from z (negative entries are
   // projected to 0): z_i ← max(0, z_i − ω w_i / d_i) row by row, w updated along.
   // Stops when the residual is <= tolerance (Solved) or after max_iterations sweeps
@@ -88,6 +100,10 @@ class LcpSolver {
  private:
   void checkSizes(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
                   const Eigen::Ref<Eigen::VectorXd>& z, const Eigen::Ref<Eigen::VectorXd>& w) const;
+  enum class Acceptance { Accepted, Rejected, NonFinite };
+  // w = M z + q and the acceptance check of solveLemke's result; needs equilibrate(M).
+  Acceptance accept(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                    const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w);
   // Ruiz equilibration M̂ = D_r M D_c of M (see lcp.cpp) into scaled_matrix_, q̂ = D_r q.
   void equilibrate(const Eigen::Ref<const Eigen::MatrixXd>& M, int n);
 

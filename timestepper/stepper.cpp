@@ -10,6 +10,38 @@
 #include "dynamics/rnea.hpp"
 
 namespace saltus::timestepper {
+namespace {
+
+// Triangular solves with the Cholesky factor M = L Lᵀ, L in the lower triangle of `factor`
+// (Eigen's LLT storage), written out: the stepper's systems have a few coordinates, where the
+// set-up of Eigen's blocked triangular solvers costs more than the arithmetic.
+// x ← L⁻¹ x, forward substitution by columns (G. H. Golub & C. F. Van Loan, "Matrix
+// Computations", 4th ed., Alg. 3.1.3).
+void forwardSubstitute(const Eigen::MatrixXd& factor, double* x) {
+  const int n = static_cast<int>(factor.rows());
+  for (int k = 0; k < n; ++k) {
+    x[k] /= factor(k, k);
+    const double* const l = &factor(0, k);
+    for (int i = k + 1; i < n; ++i) x[i] -= l[i] * x[k];
+  }
+}
+// x ← L⁻ᵀ x, back substitution by rows of Lᵀ, i.e. columns of L (ibid., Alg. 3.1.2).
+void backSubstitute(const Eigen::MatrixXd& factor, double* x) {
+  const int n = static_cast<int>(factor.rows());
+  for (int i = n - 1; i >= 0; --i) {
+    const double* const l = &factor(0, i);
+    double s = x[i];
+    for (int k = i + 1; k < n; ++k) s -= l[k] * x[k];
+    x[i] = s / l[i];
+  }
+}
+// x ← M⁻¹ x = L⁻ᵀ L⁻¹ x.
+void choleskySolve(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
+  forwardSubstitute(factor, x.data());
+  backSubstitute(factor, x.data());
+}
+
+}  // namespace
 
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
@@ -37,12 +69,12 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     directions_.push_back(scene_.surfaces[c.surface].coneDirections(c.directions));
   J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
+  solved_active_.reserve(m_max);
   active_gap_.reserve(m_max);
   active_e_.reserve(m_max);
-  N_.resize(m_max, nv);
-  D_.resize(f_max, nv);
-  MinvNt_.resize(nv, m_max);
-  MinvDt_.resize(nv, f_max);
+  J_.resize(m_max + f_max, nv);
+  Y_.resize(nv, m_max + f_max);
+  impulse_.resize(nv);
   surface_velocity_.resize(f_max);
   A_.setZero(nz_max, nz_max);
   b_.resize(nz_max);
@@ -61,6 +93,7 @@ void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   v_ = v;
   t_ = t;
   for (ContactReport& r : reports_) r = ContactReport{};
+  solved_active_.clear();
   measureContacts();
   stats_ = StepperStats{};
 }
@@ -70,7 +103,7 @@ double TimeStepper::energy() {
   return dynamics::kineticEnergy(scene_.model, data_) + dynamics::potentialEnergy(scene_.model, data_);
 }
 
-// Active normal rows (contacts, then limit stops) into N_, their friction rows into D_.
+// Active normal rows (contacts, then limit stops) into the top of J_, their friction rows below.
 // Needs the kinematics and v_free_ at q_θ.
 void TimeStepper::buildRows(double t_next) {
   const dynamics::Model<double>& model = scene_.model;
@@ -91,7 +124,7 @@ void TimeStepper::buildRows(double t_next) {
     active_.push_back(c);
     active_gap_.push_back(gap);
     active_e_.push_back(vn < -restitution_threshold_ ? contact.restitution : 0.0);
-    N_.row(m_++).noalias() = surface.normal.transpose() * J_point_[c];
+    J_.row(m_++).noalias() = surface.normal.transpose() * J_point_[c];
   }
   const int nc = static_cast<int>(scene_.contacts.size());
   for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
@@ -104,8 +137,8 @@ void TimeStepper::buildRows(double t_next) {
     active_.push_back(nc + l);
     active_gap_.push_back(gap);
     active_e_.push_back(sign * v_[stop.coordinate] < -restitution_threshold_ ? stop.restitution : 0.0);
-    N_.row(m_).setZero();
-    N_(m_++, stop.coordinate) = sign;
+    J_.row(m_).setZero();
+    J_(m_++, stop.coordinate) = sign;
   }
   for (int r = 0; r < m_; ++r) {
     const int c = active_[r];
@@ -114,36 +147,48 @@ void TimeStepper::buildRows(double t_next) {
     const Eigen::Vector3d v_surface = scene_.surfaces[contact.surface].velocity(t_next);
     for (int j = 0; j < contact.directions; ++j) {
       const auto d = directions_[c].col(j);
-      D_.row(f_).noalias() = d.transpose() * J_point_[c];
+      J_.row(m_ + f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
   }
 }
 
-// Assembles and solves the LCP in z = (p_n, β, λ); throws on failure.
+// Y = L⁻¹ Jᵀ for the first `rows` rows of J, and the Delassus matrix W = J M⁻¹ Jᵀ = Yᵀ Y into
+// the top-left corner of A_, lower triangle mirrored. Needs llt_.
+void TimeStepper::delassus(int rows) {
+  const int nv = scene_.model.nv();
+  for (int r = 0; r < rows; ++r) {
+    double* const y = &Y_(0, r);
+    for (int i = 0; i < nv; ++i) y[i] = J_(r, i);
+    forwardSubstitute(llt_.matrixLLT(), y);
+  }
+  for (int j = 0; j < rows; ++j)
+    for (int i = j; i < rows; ++i) A_(i, j) = A_(j, i) = Y_.col(i).dot(Y_.col(j));
+}
+
+// v += M⁻¹ Jᵀ z for the first `rows` rows of J and entries of z_.
+void TimeStepper::applyImpulses(int rows, Eigen::VectorXd& v) {
+  impulse_.noalias() = J_.topRows(rows).transpose() * z_.head(rows);
+  choleskySolve(llt_.matrixLLT(), impulse_);
+  v += impulse_;
+}
+
+// Assembles and solves the LCP in z = (p_n, β, λ); throws on failure. Needs J_ and llt_.
 void TimeStepper::solveLcp(int nz) {
   const int nc = static_cast<int>(scene_.contacts.size());
   const int m = m_, f = f_;
   auto A = A_.topLeftCorner(nz, nz);
-  A.setZero();
-  // Delassus blocks W = [N; D] M⁻¹ [N; D]ᵀ.
-  A.topLeftCorner(m, m).noalias() = N_.topRows(m) * MinvNt_.leftCols(m);
-  if (f > 0) {
-    A.block(0, m, m, f).noalias() = N_.topRows(m) * MinvDt_.leftCols(f);
-    A.block(m, 0, f, m).noalias() = D_.topRows(f) * MinvNt_.leftCols(m);
-    A.block(m, m, f, f).noalias() = D_.topRows(f) * MinvDt_.leftCols(f);
-  }
-  b_.head(m).noalias() = N_.topRows(m) * v_free_;
+  A.rightCols(nz - m - f).setZero();
+  A.bottomLeftCorner(nz - m - f, m + f).setZero();
+  delassus(m + f);  // W = [N; D] M⁻¹ [N; D]ᵀ
+  b_.head(m + f).noalias() = J_.topRows(m + f) * v_free_;
   for (int r = 0; r < m; ++r) {
     if (active_e_[r] > 0)  // impact: v_n⁺ ≥ −e v_n + (v_n* − v_n), i.e. w = W p + (1 + e) v_n
-      b_[r] = (1 + active_e_[r]) * N_.row(r).dot(v_);
+      b_[r] = (1 + active_e_[r]) * J_.row(r).dot(v_);
     else if (active_gap_[r] > 0)  // + gap/(θh): an open gap may close within the step
       b_[r] += active_gap_[r] / (options_.theta * options_.dt);
   }
-  if (f > 0) {
-    b_.segment(m, f).noalias() = D_.topRows(f) * v_free_;
-    b_.segment(m, f) -= surface_velocity_.head(f);
-  }
+  if (f > 0) b_.segment(m, f) -= surface_velocity_.head(f);
   // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
   int row = m + f, col = m;
   for (int r = 0; r < m; ++r) {
@@ -163,7 +208,13 @@ void TimeStepper::solveLcp(int nz) {
   auto z = z_.head(nz);
   auto w = w_.head(nz);
   if (options_.solver == LcpMethod::Lemke) {
-    result = solver_.solveLemke(A, b_.head(nz), z, w);
+    // The previous step's solution is a guess for the same active contacts (z_ still holds it).
+    if (options_.warm_start && active_ == solved_active_) {
+      result = solver_.solveLemkeWarm(A, b_.head(nz), z, w);
+      stats_.lcp_warm_solves += result.status == LcpStatus::Solved && result.iterations == 0;
+    } else
+      result = solver_.solveLemke(A, b_.head(nz), z, w);
+    solved_active_ = active_;
   } else {
     z.setZero();
     result = solver_.solvePgs(A, b_.head(nz), z, w, options_.pgs_iterations, options_.pgs_tolerance);
@@ -201,23 +252,22 @@ void TimeStepper::project() {
     const Contact& contact = scene_.contacts[c];
     if (reports_[c].gap >= -options_.penetration_tolerance) continue;
     dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
-    N_.row(m_).noalias() = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
+    J_.row(m_).noalias() = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
   }
   for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
     if (reports_[nc + l].gap >= -options_.penetration_tolerance) continue;
     const LimitStop& stop = scene_.limits[l];
-    N_.row(m_).setZero();
-    N_(m_, stop.coordinate) = stop.upper ? -1.0 : 1.0;
+    J_.row(m_).setZero();
+    J_(m_, stop.coordinate) = stop.upper ? -1.0 : 1.0;
     b_[m_++] = reports_[nc + l].gap;
     active_.push_back(nc + l);
   }
   if (m_ == 0) return;
-  MinvNt_.leftCols(m_) = N_.topRows(m_).transpose();
-  llt_.solveInPlace(MinvNt_.leftCols(m_));
+  solved_active_.clear();  // z_ is about to hold the projection's solution
+  delassus(m_);  // N M⁻¹ Nᵀ
   auto A = A_.topLeftCorner(m_, m_);
-  A.noalias() = N_.topRows(m_) * MinvNt_.leftCols(m_);
   auto z = z_.head(m_);
   auto w = w_.head(m_);
   const LcpResult result = solver_.solveLemke(A, b_.head(m_), z, w);
@@ -227,7 +277,7 @@ void TimeStepper::project() {
                               toString(result.status) + ", residual " + std::to_string(result.residual),
                           t_, activeNames(), result.residual);
   }
-  q_.noalias() += MinvNt_.leftCols(m_) * z;
+  applyImpulses(m_, q_);  // Δq = M⁻¹ Nᵀ p
 }
 
 // Gaps and relative velocities of every contact and stop at the current state; returns whether
@@ -272,11 +322,11 @@ void TimeStepper::step() {
   if (llt_.info() != Eigen::Success)
     throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);
   rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_);
-  llt_.solveInPlace(rhs_);
+  choleskySolve(llt_.matrixLLT(), rhs_);
   if (theta < 1) {  // forces at the predicted v_θ
     v_theta_ = v_ + (1 - theta) * h * rhs_;
     rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_theta_);
-    llt_.solveInPlace(rhs_);
+    choleskySolve(llt_.matrixLLT(), rhs_);
   }
   v_free_ = v_ + h * rhs_;
   buildRows(t_ + h);
@@ -285,17 +335,10 @@ void TimeStepper::step() {
   v_next = v_free_;
   for (ContactReport& r : reports_) r.pn = r.pt1 = r.pt2 = 0;
   if (m_ > 0) {
-    MinvNt_.leftCols(m_) = N_.topRows(m_).transpose();
-    llt_.solveInPlace(MinvNt_.leftCols(m_));
-    if (f_ > 0) {
-      MinvDt_.leftCols(f_) = D_.topRows(f_).transpose();
-      llt_.solveInPlace(MinvDt_.leftCols(f_));
-    }
     int n_lambda = 0;
     for (int r = 0; r < m_; ++r) n_lambda += active_[r] < nc && scene_.contacts[active_[r]].directions > 0;
     solveLcp(m_ + f_ + n_lambda);
-    v_next.noalias() += MinvNt_.leftCols(m_) * z_.head(m_);
-    if (f_ > 0) v_next.noalias() += MinvDt_.leftCols(f_) * z_.segment(m_, f_);
+    applyImpulses(m_ + f_, v_next);  // v⁺ = v* + M⁻¹ (Nᵀ p_n + Dᵀ β)
     // Impulses per contact, tangential ones in the surface basis.
     int fr = m_;
     for (int r = 0; r < m_; ++r) {

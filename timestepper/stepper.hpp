@@ -68,6 +68,9 @@ struct StepperOptions {
   double restitution_threshold = -1;      // [m/s]; < 0: 2 |g| dt (one step of free fall)
   double penetration_tolerance = 1e-9;    // [m] gaps below −this are projected out
   double contact_margin = 1e-6;           // [m] activation distance (see the active-set rule)
+  // Lemke: start from the previous step's solution when the active contacts are unchanged
+  // (LcpSolver::solveLemkeWarm); false: every LCP from Lemke's usual start.
+  bool warm_start = true;
   int pgs_iterations = 500;
   double pgs_tolerance = 1e-12;
 };
@@ -94,6 +97,7 @@ struct StepperStats {
   long steps = 0;
   long lcp_solves = 0;
   long lcp_failures = 0;
+  long lcp_warm_solves = 0;    // Lemke: contact LCPs solved by the previous step's basis, no pivot
   int max_lcp_size = 0;
   double max_penetration = 0;  // largest −gap seen after a step (before projection) [m]
   double max_lcp_residual = 0;
@@ -122,6 +126,8 @@ class TimeStepper {
 
  private:
   void buildRows(double t_next);
+  void delassus(int rows);
+  void applyImpulses(int rows, Eigen::VectorXd& v);
   void solveLcp(int nz);
   void project();
   bool measureContacts();
@@ -139,8 +145,14 @@ class TimeStepper {
   // Active rows: normal rows first (contacts then limits), then the friction rows.
   std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
   std::vector<double> active_gap_, active_e_;
-  Eigen::MatrixXd N_, D_, MinvNt_, MinvDt_;  // m × nv, f × nv and their M⁻¹ (·)ᵀ
+  std::vector<int> solved_active_;    // active_ of the last contact LCP whose solution z_ holds
+  // J_ = [N; D]: the m normal rows, then the f friction rows (each row of J_ is a row of N or D).
+  // With M = L Lᵀ (llt_), Y_ = L⁻¹ J_ᵀ, so the Delassus matrix is W = J M⁻¹ Jᵀ = Yᵀ Y: one
+  // forward substitution per row and symmetric by construction; the impulses act through one
+  // solve M⁻¹ (Jᵀ z) of a vector.
+  Eigen::MatrixXd J_, Y_;                    // (m + f) × nv, nv × (m + f)
   Eigen::VectorXd surface_velocity_;         // d_ij · v_surface for each friction row
+  Eigen::VectorXd impulse_;                  // Jᵀ z, then M⁻¹ Jᵀ z
   Eigen::MatrixXd A_;                        // LCP matrix
   Eigen::VectorXd b_, z_, w_;                // LCP vector and solution
   LcpSolver solver_;

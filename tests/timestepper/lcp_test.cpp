@@ -299,6 +299,62 @@ TEST(Lemke, SolvesContactLcpsAndCrossChecksWithSiconos) {
               problems, siconos_solutions, siconos_false_success);
 }
 
+// Warm start: from the solution of a neighbouring problem (the time-stepper's previous step) the
+// guessed basis is usually right, and the answer is the cold one where the solution is unique;
+// from a wrong guess Lemke still solves the problem.
+TEST(Lemke, WarmStartFromANeighbouringSolution) {
+  std::mt19937 rng(111);
+  LcpSolver solver(60);
+  int problems = 0, no_pivot = 0;
+  for (int n : {1, 2, 4, 8, 20}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const MatrixXd M = randomPMatrix(rng, n, trial % 2 == 0);  // P-matrix: one solution
+      const VectorXd q = randomVector(rng, n);
+      const VectorXd q_next = q + randomVector(rng, n, 1e-4);
+      const Solution cold = lemke(solver, M, q_next);
+      ASSERT_EQ(cold.result.status, LcpStatus::Solved);
+      VectorXd z = lemke(solver, M, q).z, w(n);  // the guess
+      const LcpResult warm = solver.solveLemkeWarm(M, q_next, z, w);
+      ASSERT_EQ(warm.status, LcpStatus::Solved) << "n " << n << " trial " << trial;
+      EXPECT_LT((z - cold.z).cwiseAbs().maxCoeff(), 1e-9 * (1 + cold.z.cwiseAbs().maxCoeff())) << "n " << n;
+      EXPECT_LT(lcpResidual(M, q_next, z), 1e-9);
+      ++problems;
+      no_pivot += warm.iterations == 0;
+    }
+  }
+  EXPECT_GE(no_pivot, problems * 3 / 4);  // a small change of q rarely changes the basis
+  // Contact LCPs (solutions not unique): warm from the own solution needs no pivot; from a
+  // wrong guess (every z_i > 0, or a random positive set) the result is still a solution.
+  int contact_no_pivot = 0, contact_problems = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const ContactLcp lcp = randomContactLcp(rng, 6, 2, 4);
+    const int n = static_cast<int>(lcp.q.size());
+    const Solution cold = lemke(solver, lcp.M, lcp.q);
+    ASSERT_EQ(cold.result.status, LcpStatus::Solved);
+    VectorXd z = cold.z, w(n);
+    LcpResult warm = solver.solveLemkeWarm(lcp.M, lcp.q, z, w);
+    ASSERT_EQ(warm.status, LcpStatus::Solved);
+    EXPECT_LT(lcpResidual(lcp.M, lcp.q, z), 1e-9);
+    ++contact_problems;
+    contact_no_pivot += warm.iterations == 0;
+    for (int guess = 0; guess < 2; ++guess) {
+      z = guess == 0 ? VectorXd::Ones(n) : VectorXd(randomVector(rng, n).cwiseMax(0.0));
+      warm = solver.solveLemkeWarm(lcp.M, lcp.q, z, w);
+      ASSERT_EQ(warm.status, LcpStatus::Solved) << "trial " << trial << " guess " << guess;
+      EXPECT_LT(lcpResidual(lcp.M, lcp.q, z), 1e-9);
+      EXPECT_LT((w - (lcp.M * z + lcp.q)).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+  // Random contact LCPs often have degenerate solutions (a sticking contact: λ = 0 with w_λ = 0;
+  // β on a facet of the cone), where the set z_i > 0 alone leaves M̂_PP singular and Lemke runs.
+  EXPECT_GE(contact_no_pivot, contact_problems / 3);
+  // A trivial problem (q ≥ 0) gives z = 0 whatever the guess.
+  VectorXd z = VectorXd::Ones(3), w(3);
+  const LcpResult trivial = solver.solveLemkeWarm(MatrixXd::Identity(3, 3), VectorXd::Ones(3), z, w);
+  EXPECT_EQ(trivial.status, LcpStatus::Solved);
+  EXPECT_EQ(z, VectorXd::Zero(3));
+}
+
 TEST(Lemke, SolvesBadlyScaledContactLcps) {
   // Inverse masses from 1e-3 to 1e3 against the dimensionless friction-cone rows, and
   // velocities from 1e-3 to 1e3: the equilibration keeps one round-off scale for all rows.
@@ -453,6 +509,9 @@ TEST(Lcp, SolvesAllocateNothing) {
   const LcpResult contact_result = solver.solveLemke(contact.M, contact.q, z24, w24);
   const LcpResult p_result = solver.solveLemke(P, q, z, w);
   const LcpResult small_result = solver.solveLemke(P.topLeftCorner(5, 5), q_small, z5, w5);
+  const LcpResult warm_result = solver.solveLemkeWarm(contact.M, contact.q, z24, w24);  // from its solution
+  z24.setOnes();
+  const LcpResult cold_fallback = solver.solveLemkeWarm(contact.M, contact.q, z24, w24);  // a wrong guess
   z.setZero();
   const LcpResult pgs_result = solver.solvePgs(S, q, z, w, 500, 1e-10);
   z24.setZero();
@@ -463,6 +522,8 @@ TEST(Lcp, SolvesAllocateNothing) {
   EXPECT_EQ(contact_result.status, LcpStatus::Solved);
   EXPECT_EQ(p_result.status, LcpStatus::Solved);
   EXPECT_EQ(small_result.status, LcpStatus::Solved);
+  EXPECT_EQ(warm_result.status, LcpStatus::Solved);
+  EXPECT_EQ(cold_fallback.status, LcpStatus::Solved);
   EXPECT_EQ(pgs_result.status, LcpStatus::Solved);
   EXPECT_NE(pgs_contact.status, LcpStatus::NonFinite);
   EXPECT_TRUE(std::isfinite(residual));

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "dynamics/aba.hpp"
 #include "tests/support/heap_counter.hpp"
@@ -213,6 +215,37 @@ TEST(Stepper, PgsAgreesWithLemkeOnTheBallDrop) {
   while (lemke.time() < 1.5) lemke.step(), pgs.step();
   EXPECT_NEAR(lemke.q()[0], pgs.q()[0], 1e-9);
   EXPECT_EQ(pgs.stats().lcp_failures, 0);
+}
+
+// Lemke warm-started from the previous step follows the cold-started trajectories to round-off
+// on every scene (where the contact LCP has several solutions, v⁺ is still the same); with one
+// contact active throughout, most steps need no pivot.
+TEST(Stepper, WarmStartedLemkeFollowsTheColdTrajectories) {
+  const std::vector<Scene> scenes = {testing::ballDrop(0.3, 0.5), testing::blockSlide(0.2, 1.0, 0.3),
+                                     testing::blockSlide(0.0, 2.0, 0.3),
+                                     testing::pendulumConveyor(2.0, 0.5, 0.01),
+                                     testing::painleveRod(2.0, std::atan(2.0), 1.0),
+                                     testing::particle3d(Eigen::Vector2d(1.0, 0.5), 0.4, 8)};
+  for (const Scene& scene : scenes)
+    for (double theta : {0.5, 1.0}) {
+      StepperOptions cold_options = options(1e-3, theta);
+      cold_options.warm_start = false;
+      TimeStepper warm(scene, options(1e-3, theta)), cold(scene, cold_options);
+      double difference = 0;
+      for (int i = 0; i < 600; ++i) {
+        warm.step();
+        cold.step();
+        difference = std::max({difference, (warm.q() - cold.q()).cwiseAbs().maxCoeff(),
+                               (warm.v() - cold.v()).cwiseAbs().maxCoeff()});
+      }
+      EXPECT_LT(difference, 1e-9) << scene.name << " θ = " << theta;
+      EXPECT_EQ(warm.stats().lcp_failures, 0);
+      EXPECT_EQ(warm.stats().lcp_solves, cold.stats().lcp_solves) << scene.name;
+      EXPECT_EQ(cold.stats().lcp_warm_solves, 0);
+      if (scene.name == "block_slide" || scene.name == "pendulum_conveyor") {  // one contact, active throughout
+        EXPECT_GT(warm.stats().lcp_warm_solves, warm.stats().lcp_solves * 3 / 4) << scene.name << " θ = " << theta;
+      }
+    }
 }
 
 TEST(Stepper, SolverFailureIsReportedWithTimeAndContacts) {
