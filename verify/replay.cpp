@@ -68,7 +68,8 @@ void checkReplayOptions(const ReplayOptions& o, const SavedSolution& solution) {
   if (!(o.theta >= 0.5 && o.theta <= 1.0)) throw std::invalid_argument("theta: expected a value in [0.5, 1]");
   if (!(std::isfinite(o.kp) && o.kp >= 0) || !(std::isfinite(o.kd) && o.kd >= 0))
     throw std::invalid_argument("kp, kd: expected non-negative gains");
-  if (!positive(o.tolerance)) throw std::invalid_argument("tolerance: expected a positive number");
+  if (!(std::isfinite(o.tolerance) && o.tolerance >= 0) || !positive(o.tolerance_speed))
+    throw std::invalid_argument("tolerance: expected a positive number (or 0: tolerance_speed × dt)");
   if (!positive(o.gap_threshold) || !positive(o.jump_threshold) || !positive(o.approach_threshold) ||
       !positive(o.match_window))
     throw std::invalid_argument("event thresholds: expected positive numbers");
@@ -258,6 +259,7 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
 
   ReplayResult R;
   R.options = options;
+  R.tolerance = options.resolvedTolerance();
   R.problem = problem.name;
   R.source = problem.source;
   R.method = collocation::toString(tr.method());
@@ -441,7 +443,7 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
       E.final_velocity_deviation = std::max(E.final_velocity_deviation, d.final_v);
     }
     E.rms_position_deviation = std::sqrt(sum_max2 / steps);
-    E.within_tolerance = E.completed && E.max_position_deviation <= options.tolerance;
+    E.within_tolerance = E.completed && E.max_position_deviation <= R.tolerance;
 
     std::vector<double> t_done(t_grid.begin(), t_grid.begin() + k + 1);
     for (auto& g : gaps) g.resize(static_cast<std::size_t>(k) + 1);

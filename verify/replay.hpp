@@ -84,9 +84,16 @@ struct ReplayOptions {
   double theta = 0.5;
   Feedback feedback = Feedback::None;
   double kp = 100, kd = 20;
-  // On the maximum position deviation [m or rad]: 1 mm / 1 mrad (see cli/replay.cpp and the
-  // README for the measured margins).
-  double tolerance = 1e-3;
+  // On the maximum position deviation [m or rad]; 0: tolerance_speed × dt (1 mm or 1 mrad at
+  // the default dt). A replay differs from a feasible solution at first order in dt: an impact
+  // or a belt step is resolved up to one step late, shifting the position by up to |Δv| dt, and
+  // the semi-implicit schemes are first order through contact. Measured on point_mass_drop
+  // (e = 0.5, |Δv| = 2.1 m/s): 6.4e-4, 7.2e-5 and 8.3e-6 m at dt 1e-3, 1e-4 and 1e-5 (Saltus),
+  // 1.2e-3, 1.0e-4, 7.0e-6 m (Bullet), so 10 m/s × dt leaves a margin of ~10 for jumps of a
+  // few m/s; a wrong input shows up far above it (README, `saltus replay`).
+  double tolerance = 0;
+  double tolerance_speed = 10;  // [m/s or rad/s]
+  double resolvedTolerance() const { return tolerance > 0 ? tolerance : tolerance_speed * dt; }
 
   // Events.
   double gap_threshold = 1e-4;       // [m] a contact is closed when its gap is at most this
@@ -169,13 +176,14 @@ struct ReplayResult {
   std::vector<double> energy_opt;
   std::vector<EngineReplay> engines;
   ReplayOptions options;
+  double tolerance = 0;          // the one applied (options.resolvedTolerance())
   bool withinTolerance() const;  // every engine completed and within tolerance
 };
 
 // The Problem's scene with its mesh surface steps placed at the solved mesh times.
 scene::Scene replayScene(const collocation::SavedSolution& solution);
 
-// Checks the options (dt > 0 and finite, θ in [½, 1], gains ≥ 0, tolerance > 0, input_offset
+// Checks the options (dt > 0 and finite, θ in [½, 1], gains ≥ 0, tolerance ≥ 0, input_offset
 // size); throws std::invalid_argument naming the field.
 void checkReplayOptions(const ReplayOptions& options, const collocation::SavedSolution& solution);
 
