@@ -6,6 +6,11 @@
     charts.py stability DIR/stability.csv --png OUT.png --svg OUT.svg
         a grid (dt across; friction or restitution up; one panel per restitution when the scene
         has both) coloured by outcome
+    charts.py replay-deviation DIR/replay.csv --png OUT.png --svg OUT.svg
+        `saltus replay`: |q - q*| per coordinate and engine over time (log scale) with the
+        tolerance, and below it the optimised vs the replayed positions
+    charts.py replay-energy DIR/replay.csv --png OUT.png --svg OUT.svg
+        `saltus replay`: energy over time, optimised and per engine
 
 The CSV files start with '# key: value' comment lines (scene, method, error, ...) that give the
 titles. Each image is written to a temporary name beside the target and renamed into place.
@@ -164,17 +169,104 @@ def stability(args):
     save(fig, args.png, args.svg)
 
 
+ENGINE_COLOURS = {"saltus": "tab:blue", "bullet": "tab:orange"}
+LINESTYLES = ["-", "--", ":", "-."]
+
+
+def replay_columns(meta, rows):
+    coordinates = meta.get("coordinates", "").split()
+    engines = meta.get("engines", "").split()
+    t = [number(r["t"]) for r in rows]
+    return coordinates, engines, t
+
+
+def replay_title(meta):
+    return "%s (%s): replay, dt %s, feedback %s" % (meta.get("problem", "?"), meta.get("method", ""),
+                                                    meta.get("dt", "?"), meta.get("feedback", "?"))
+
+
+def replay_events(ax, meta):
+    """Optimised impacts as thin vertical lines."""
+    for token in meta.get("events", "").split():
+        kind, _, t = token.partition("@")
+        if kind.startswith("impact"):
+            ax.axvline(number(t), color="0.75", lw=0.6, zorder=0)
+
+
+def replay_deviation(args):
+    import matplotlib.pyplot as plt
+    meta, rows = read_csv(args.csv)
+    coordinates, engines, t = replay_columns(meta, rows)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6.5), sharex=True)
+    floor = 1e-16  # zero deviations (the initial state) on a log axis
+    for e in engines:
+        for i, c in enumerate(coordinates):
+            pts = [(tk, abs(number(r["%s.dq.%s" % (e, c)]))) for tk, r in zip(t, rows)
+                   if not math.isnan(number(r["%s.dq.%s" % (e, c)]))]
+            if pts:
+                top.plot([p[0] for p in pts], [max(p[1], floor) for p in pts], color=ENGINE_COLOURS.get(e, None),
+                         ls=LINESTYLES[i % len(LINESTYLES)], lw=1.0, label="%s %s" % (e, c))
+    tol = number(meta.get("tolerance"))
+    if not math.isnan(tol):
+        top.axhline(tol, color="tab:red", lw=1.0, ls="-.", label="tolerance %g" % tol)
+    top.set_yscale("log")
+    top.set_ylim(bottom=1e-12)
+    top.set_ylabel("|q - q*| [m or rad]")
+    top.grid(True, which="both", alpha=0.3)
+    top.legend(fontsize=7, ncol=2)
+    replay_events(top, meta)
+    for i, c in enumerate(coordinates):
+        bottom.plot(t, [number(r["opt.q.%s" % c]) for r in rows], color="black", ls=LINESTYLES[i % len(LINESTYLES)],
+                    lw=2.2, alpha=0.35, label="optimised %s" % c)
+        for e in engines:
+            pts = [(tk, number(r["%s.q.%s" % (e, c)])) for tk, r in zip(t, rows)
+                   if not math.isnan(number(r["%s.q.%s" % (e, c)]))]
+            bottom.plot([p[0] for p in pts], [p[1] for p in pts], color=ENGINE_COLOURS.get(e, None),
+                        ls=LINESTYLES[i % len(LINESTYLES)], lw=0.9, label="%s %s" % (e, c))
+    bottom.set_xlabel("t [s]")
+    bottom.set_ylabel("q [m or rad]")
+    bottom.grid(True, alpha=0.3)
+    bottom.legend(fontsize=7, ncol=2)
+    replay_events(bottom, meta)
+    fig.suptitle(replay_title(meta), fontsize=10)
+    fig.tight_layout()
+    save(fig, args.png, args.svg)
+
+
+def replay_energy(args):
+    import matplotlib.pyplot as plt
+    meta, rows = read_csv(args.csv)
+    _, engines, t = replay_columns(meta, rows)
+    fig, ax = plt.subplots(figsize=(7.5, 4))
+    ax.plot(t, [number(r["opt.energy"]) for r in rows], color="black", lw=2.2, alpha=0.35, label="optimised")
+    for e in engines:
+        pts = [(tk, number(r["%s.energy" % e])) for tk, r in zip(t, rows) if not math.isnan(number(r["%s.energy" % e]))]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], color=ENGINE_COLOURS.get(e, None), lw=1.0, label=e)
+    replay_events(ax, meta)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("kinetic + potential energy [J]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(replay_title(meta), fontsize=10)
+    fig.tight_layout()
+    save(fig, args.png, args.svg)
+
+
+KINDS = {"work-precision": work_precision, "stability": stability, "replay-deviation": replay_deviation,
+         "replay-energy": replay_energy}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="kind", required=True)
-    for name in ("work-precision", "stability"):
+    for name in KINDS:
         p = sub.add_parser(name)
         p.add_argument("csv")
         p.add_argument("--png", required=True)
         p.add_argument("--svg", required=True)
     args = parser.parse_args()
     try:
-        (work_precision if args.kind == "work-precision" else stability)(args)
+        KINDS[args.kind](args)
     except SystemExit:
         raise
     except Exception as e:  # a short message instead of a traceback

@@ -98,6 +98,14 @@ void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   stats_ = StepperStats{};
 }
 
+void TimeStepper::setInput(const Eigen::VectorXd& tau) {
+  if (tau.size() != tau_.size())
+    throw std::invalid_argument("TimeStepper::setInput: " + std::to_string(tau.size()) + " values for " +
+                                std::to_string(tau_.size()) + " coordinates");
+  if (!tau.allFinite()) throw std::invalid_argument("TimeStepper::setInput: the input is not finite");
+  tau_ = tau;  // same size: Eigen copies without reallocating
+}
+
 double TimeStepper::energy() {
   dynamics::forwardKinematics(scene_.model, data_, q_, v_);
   return dynamics::kineticEnergy(scene_.model, data_) + dynamics::potentialEnergy(scene_.model, data_);

@@ -111,6 +111,12 @@ class TimeStepper {
   // Advances by one step; throws SimulationError when the LCP solver fails or the state stops
   // being finite.
   void step();
+  // Generalised forces τ (model coordinate order, nv values) held over the following steps until
+  // set again, in place of the scene's constant input: a time-varying input is one call per step
+  // (e.g. verify/replay.hpp). Copies into the stepper's own vector (no allocation); throws
+  // std::invalid_argument for a wrong size or a non-finite value.
+  void setInput(const Eigen::VectorXd& tau);
+  const Eigen::VectorXd& input() const { return tau_; }
 
   double time() const { return t_; }
   const Eigen::VectorXd& q() const { return q_; }

@@ -1,0 +1,238 @@
+// Replaying optimised trajectories (verify/replay.hpp) in the Saltus stepper and in Bullet. Each
+// solution is solved once per process (a function-local static; ctest runs one test per process): point_mass_drop with
+// e = 0.5 (seed 2, ~0.5 s), pendulum_conveyor (the published problem with P = 3, ~1.5 s) and
+// tests/data/problems/push_block.yaml (an actuated point mass, ~0.4 s).
+#include "verify/replay.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "collocation/problem_file.hpp"
+#include "collocation/solver.hpp"
+#include "saltus/build_paths.hpp"
+
+namespace saltus::verify {
+namespace {
+
+using collocation::SavedSolution;
+
+// As `saltus optimize`: the problem's perturbed seed, restarts after an infeasible end.
+SavedSolution solveProblem(const std::string& name, const std::map<std::string, double>& set, unsigned seed, int P = 0) {
+  SavedSolution s;
+  s.problem = std::make_unique<collocation::Problem>(collocation::loadProblem(name, set));
+  s.problem->random_seed = seed;
+  if (P > 0) collocation::remesh(*s.problem, s.problem->N, P);
+  s.transcription = std::make_unique<collocation::Transcription>(*s.problem, collocation::Method::Impulsive);
+  const collocation::Transcription& t = *s.transcription;
+  const collocation::Problem& p = *s.problem;
+  const Eigen::VectorXd base = t.nullSeed();
+  collocation::SolveOptions so;
+  so.restarts = p.restarts;
+  const collocation::SolveReport r =
+      collocation::solve(t, [&](int k) { return t.perturb(base, p.seed_scale, p.random_seed + static_cast<unsigned>(k)); }, so);
+  EXPECT_TRUE(r.feasible) << name << ": " << r.stages.back().status;
+  s.x = r.x;
+  return s;
+}
+
+const SavedSolution& dropSolution() {
+  static const SavedSolution s = solveProblem("point_mass_drop", {{"restitution", 0.5}}, 2);
+  return s;
+}
+const SavedSolution& conveyorSolution() {
+  static const SavedSolution s = solveProblem("pendulum_conveyor", {}, 3, 3);  // P = 3: 180 iterations instead of 280
+  return s;
+}
+const SavedSolution& pushSolution() {
+  static const SavedSolution s =
+      solveProblem(std::string(SALTUS_SOURCE_DIR) + "/tests/data/problems/push_block.yaml", {}, 1);
+  return s;
+}
+
+ReplayOptions replayOptions(std::vector<ReplayEngine> engines, double dt = 1e-4) {
+  ReplayOptions o;
+  o.engines = std::move(engines);
+  o.dt = dt;
+  return o;
+}
+
+int matchedEvents(const EngineReplay& e) {
+  int n = 0;
+  for (const EventMatch& m : e.matches) n += m.matched;
+  return n;
+}
+
+// The bounce of point_mass_drop (h = 0.1 m, e = 0.5): impact at sqrt(2h/g) = 0.1428 s with
+// 1.40 m/s, apex e² h = 0.025 m. The stepper resolves the impact up to one step late, so the
+// position can differ by up to |Δv| dt = 2.1e-4 m around it and by O(dt) after it: the bound
+// 3 |Δv| dt. The deviation is first order in dt (ten times smaller at dt 1e-5), and the replayed
+// apex matches the optimised one and the analytic value.
+TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
+  const SavedSolution& s = dropSolution();
+  const double g = 9.81, h = 0.1, e = 0.5;
+  const double dv = (1 + e) * std::sqrt(2 * g * h);
+  const ReplayResult r = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-4));
+  ASSERT_EQ(r.engines.size(), 1u);
+  const EngineReplay& E = r.engines[0];
+  ASSERT_TRUE(E.completed) << E.message;
+  EXPECT_EQ(r.tolerance, 1e-3);  // 10 m/s × dt
+  EXPECT_TRUE(E.within_tolerance);
+  EXPECT_GT(E.max_position_deviation, 0.0);
+  EXPECT_LT(E.max_position_deviation, 3 * dv * 1e-4);
+  EXPECT_LE(E.rms_position_deviation, E.max_position_deviation);
+  EXPECT_LE(E.final_position_deviation, E.max_position_deviation);
+  EXPECT_EQ(E.max_penetration, 0.0);  // the stepper projects penetrations out
+  ASSERT_GT(r.end_time, 0.214);        // the horizon holds the apex, (1 + e) sqrt(2h/g)
+  double apex_opt = 0, apex_replay = 0;
+  for (std::size_t k = 0; k < r.t.size(); ++k)
+    if (r.t[k] > 0.15) {
+      apex_opt = std::max(apex_opt, r.q_opt[k][0]);
+      apex_replay = std::max(apex_replay, E.series.q[k][0]);
+    }
+  EXPECT_NEAR(apex_opt, e * e * h, 2e-4);
+  EXPECT_NEAR(apex_replay, apex_opt, 1e-4);
+
+  // Events: impact, touchdown and lift-off of the optimisation, each matched within two steps.
+  ASSERT_EQ(r.optimised_events.size(), 3u);
+  int impacts = 0;
+  for (const ContactEvent& ev : r.optimised_events) {
+    impacts += ev.kind == ContactEvent::Impact;
+    EXPECT_NEAR(ev.t, std::sqrt(2 * h / g), 1e-3);
+  }
+  EXPECT_EQ(impacts, 1);
+  EXPECT_EQ(matchedEvents(E), 3);
+  for (const EventMatch& m : E.matches) EXPECT_LE(std::abs(m.dt), 2e-4);
+  EXPECT_TRUE(E.unmatched.empty());
+  // The energy after the bounce: e² of the drop's, within the discretisation.
+  EXPECT_NEAR(E.energy_start, g * h, 1e-12);
+  EXPECT_NEAR(E.energy_end, e * e * g * h, 2e-3);
+
+  // First order in dt.
+  const ReplayResult fine = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-5));
+  EXPECT_LT(fine.engines[0].max_position_deviation, 0.3 * E.max_position_deviation);
+}
+
+// pendulum_conveyor: the belt steps on the mesh at [6, 0]; the replay must step it at the solved
+// time of that mesh point, and the tip then follows the belt (an impact without collision at the
+// step, paper IV.A). The stepper resolves the step within one step: deviation ≤ ~1e-5 rad.
+TEST(Replay, PendulumConveyorBeltStepsAtTheSolvedMeshTime) {
+  const SavedSolution& s = conveyorSolution();
+  const collocation::CollocationTrajectory traj = s.trajectory();
+  const scene::Scene scene = replayScene(s);
+  ASSERT_EQ(scene.surfaces[0].velocity_schedule.size(), 2u);
+  EXPECT_EQ(scene.surfaces[0].velocity_schedule[1].time, traj.meshTimes()[5]);
+  EXPECT_EQ(scene.surfaces[0].velocity_schedule[1].velocity, Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_GT(traj.meshTimes()[5], 0.01);  // not at rest from the start
+
+  const ReplayResult r = replay(s, replayOptions({ReplayEngine::Saltus}));
+  const EngineReplay& E = r.engines[0];
+  ASSERT_TRUE(E.completed) << E.message;
+  EXPECT_TRUE(E.within_tolerance);
+  EXPECT_LT(E.max_position_deviation, 1e-4);
+  // The pendulum moved with the belt (θ2 grows), in the optimisation and in the replay.
+  EXPECT_GT(r.q_opt.back()[1] - r.q_opt.front()[1], 0.03);
+  EXPECT_NEAR(E.series.q.back()[1], r.q_opt.back()[1], 1e-4);
+  ASSERT_EQ(r.optimised_events.size(), 1u);
+  EXPECT_EQ(r.optimised_events[0].kind, ContactEvent::ImpactWithoutCollision);
+  EXPECT_NEAR(r.optimised_events[0].t, traj.meshTimes()[5], 1e-12);
+  ASSERT_EQ(matchedEvents(E), 1);
+  EXPECT_GE(E.matches[0].dt, 0.0);  // the step's end sees the new belt velocity
+  EXPECT_LE(E.matches[0].dt, 1e-4 + 1e-12);
+
+  // Bullet does not produce the tangential impulse (bullet_world_test.cpp: the tip catches up
+  // over ~70 ms): it exceeds the tolerance and the impact without collision stays unmatched.
+  // (Here rather than in the Bullet test: ctest runs each test in its own process, and this
+  // solve is the slow one.)
+  const ReplayResult c = replay(s, replayOptions({ReplayEngine::Bullet}));
+  const EngineReplay& C = c.engines[0];
+  ASSERT_TRUE(C.completed) << C.message;
+  EXPECT_GT(C.max_position_deviation, 5e-3);
+  EXPECT_FALSE(C.within_tolerance);
+  ASSERT_EQ(C.matches.size(), 1u);
+  EXPECT_FALSE(C.matches[0].matched);
+}
+
+// Bullet: the replay runs and reports finite deviations, matched events, its approximations and
+// no MLCP fallback. On the bounce it is first order like the stepper (the belt: above).
+TEST(Replay, BulletReplayReportsDeviationEventsAndApproximations) {
+  const ReplayResult r = replay(dropSolution(), replayOptions({ReplayEngine::Saltus, ReplayEngine::Bullet}));
+  ASSERT_EQ(r.engines.size(), 2u);
+  const EngineReplay& B = r.engines[1];
+  EXPECT_EQ(B.engine, ReplayEngine::Bullet);
+  ASSERT_TRUE(B.completed) << B.message;
+  EXPECT_TRUE(std::isfinite(B.max_position_deviation));
+  EXPECT_GT(B.max_position_deviation, 0.0);
+  EXPECT_LT(B.max_position_deviation, 1e-3);
+  EXPECT_GT(B.rms_position_deviation, 0.0);
+  EXPECT_EQ(matchedEvents(B), 3);
+  EXPECT_FALSE(B.approximations.empty());
+  EXPECT_EQ(B.mlcp_fallbacks, 0);
+  EXPECT_GT(B.max_penetration, 0.0);  // erp2 = 0: a contact sits up to |v| dt below the surface
+  EXPECT_LT(B.max_penetration, 1.5 * 1.4 * 1e-4);
+  EXPECT_EQ(B.series.t.size(), r.t.size());
+
+}
+
+// push_block: an input replayed. The minimum-effort input of a frictionless 1 kg mass moved by
+// d = 0.1 m in T = 0.3 s is u(t) = (12 d / T³)(T/2 − t); the midpoint stepper with the mean input
+// over each step integrates it exactly up to the solver's tolerances. A wrong input (twice the
+// input, or a constant 0.05 N more: 0.5 · 0.05 · T² = 2.3 mm at the end) is caught by the
+// tolerance; PD feedback brings the constant offset back within it.
+TEST(Replay, InputReplayAndAWrongInputCaughtByTheTolerance) {
+  const SavedSolution& s = pushSolution();
+  const double d = 0.1, T = 0.3;
+  ReplayOptions o = replayOptions({ReplayEngine::Saltus});
+  const ReplayResult r = replay(s, o);
+  const EngineReplay& E = r.engines[0];
+  ASSERT_TRUE(E.completed) << E.message;
+  EXPECT_NEAR(r.end_time, T, 1e-9);
+  // The mean of u over the first step, [0, dt]: the analytic input at dt/2.
+  EXPECT_NEAR(r.u_applied[0][0], 12 * d / (T * T * T) * (T / 2 - o.dt / 2), 1e-3);
+  EXPECT_LT(E.max_position_deviation, 1e-6);
+  EXPECT_NEAR(E.series.q.back()[0], d, 1e-6);
+  EXPECT_TRUE(E.within_tolerance);
+  EXPECT_TRUE(r.optimised_events.empty());  // resting contact throughout
+  EXPECT_TRUE(E.events.empty());
+
+  o.input_scale = 2.0;
+  const ReplayResult doubled = replay(s, o);
+  EXPECT_FALSE(doubled.engines[0].within_tolerance);
+  EXPECT_FALSE(doubled.withinTolerance());
+  EXPECT_GT(doubled.engines[0].max_position_deviation, 0.05);
+
+  o.input_scale = 1.0;
+  o.input_offset = Eigen::VectorXd::Constant(1, 0.05);
+  const ReplayResult offset = replay(s, o);
+  EXPECT_NEAR(offset.engines[0].final_position_deviation, 0.5 * 0.05 * T * T, 1e-5);
+  EXPECT_FALSE(offset.engines[0].within_tolerance);
+
+  o.feedback = Feedback::Pd;  // Kp 100: the offset leaves a deviation ≤ 0.05 / 100
+  const ReplayResult tracked = replay(s, o);
+  EXPECT_TRUE(tracked.engines[0].within_tolerance);
+  EXPECT_LT(tracked.engines[0].max_position_deviation, 0.05 / 100);
+}
+
+TEST(Replay, RefusesBadOptions) {
+  const SavedSolution& s = pushSolution();
+  ReplayOptions o = replayOptions({ReplayEngine::Saltus});
+  o.dt = 0;
+  EXPECT_THROW(replay(s, o), std::invalid_argument);
+  o.dt = -1e-3;
+  EXPECT_THROW(replay(s, o), std::invalid_argument);
+  o = replayOptions({ReplayEngine::Saltus});
+  o.input_offset = Eigen::VectorXd::Zero(2);  // one input
+  EXPECT_THROW(replay(s, o), std::invalid_argument);
+  o = replayOptions({ReplayEngine::Saltus});
+  o.tolerance = -1;
+  EXPECT_THROW(replay(s, o), std::invalid_argument);
+  o = replayOptions({});
+  EXPECT_THROW(replay(s, o), std::invalid_argument);
+  EXPECT_THROW(parseReplayEngines("ode"), std::invalid_argument);
+  EXPECT_EQ(parseReplayEngines("both").size(), 2u);
+  EXPECT_THROW(parseFeedback("pid"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace saltus::verify

@@ -1,0 +1,458 @@
+#include "verify/replay.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "collocation/functions.hpp"
+#include "dynamics/energy.hpp"
+#include "dynamics/kinematics.hpp"
+
+namespace saltus::verify {
+
+using collocation::CollocationTrajectory;
+using collocation::SavedSolution;
+using collocation::Side;
+
+const char* replayEngineName(ReplayEngine engine) { return engine == ReplayEngine::Saltus ? "saltus" : "bullet"; }
+
+std::vector<ReplayEngine> parseReplayEngines(const std::string& name) {
+  if (name == "saltus") return {ReplayEngine::Saltus};
+  if (name == "bullet") return {ReplayEngine::Bullet};
+  if (name == "both") return {ReplayEngine::Saltus, ReplayEngine::Bullet};
+  throw std::invalid_argument("unknown engine '" + name + "' (expected saltus, bullet or both)");
+}
+
+const char* feedbackName(Feedback feedback) { return feedback == Feedback::None ? "none" : "pd"; }
+
+Feedback parseFeedback(const std::string& name) {
+  if (name == "none") return Feedback::None;
+  if (name == "pd") return Feedback::Pd;
+  throw std::invalid_argument("unknown feedback '" + name + "' (expected none or pd)");
+}
+
+const char* eventKindName(ContactEvent::Kind kind) {
+  switch (kind) {
+    case ContactEvent::Touchdown: return "touchdown";
+    case ContactEvent::LiftOff: return "lift-off";
+    case ContactEvent::Impact: return "impact";
+    case ContactEvent::ImpactWithoutCollision: return "impact-without-collision";
+  }
+  return "?";
+}
+
+bool ReplayResult::withinTolerance() const {
+  if (engines.empty()) return false;
+  for (const EngineReplay& e : engines)
+    if (!e.completed || !e.within_tolerance) return false;
+  return true;
+}
+
+scene::Scene replayScene(const SavedSolution& solution) {
+  const collocation::Problem& problem = *solution.problem;
+  scene::Scene scene = problem.scene;
+  const CollocationTrajectory traj = solution.trajectory();
+  for (const auto& [surface, steps] : problem.surface_steps) {
+    std::vector<scene::Surface::Step>& schedule = scene.surfaces.at(surface).velocity_schedule;
+    schedule.clear();
+    for (const collocation::SurfaceStep& s : steps)
+      schedule.push_back({traj.meshTimes().at(static_cast<std::size_t>(s.element)), s.velocity});
+  }
+  return scene;
+}
+
+void checkReplayOptions(const ReplayOptions& o, const SavedSolution& solution) {
+  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!positive(o.dt)) throw std::invalid_argument("dt: expected a positive step, got " + std::to_string(o.dt));
+  if (!(o.theta >= 0.5 && o.theta <= 1.0)) throw std::invalid_argument("theta: expected a value in [0.5, 1]");
+  if (!(std::isfinite(o.kp) && o.kp >= 0) || !(std::isfinite(o.kd) && o.kd >= 0))
+    throw std::invalid_argument("kp, kd: expected non-negative gains");
+  if (!(std::isfinite(o.tolerance) && o.tolerance >= 0) || !positive(o.tolerance_speed))
+    throw std::invalid_argument("tolerance: expected a positive number (or 0: tolerance_speed × dt)");
+  if (!positive(o.gap_threshold) || !positive(o.jump_threshold) || !positive(o.approach_threshold) ||
+      !positive(o.match_window))
+    throw std::invalid_argument("event thresholds: expected positive numbers");
+  if (!std::isfinite(o.input_scale)) throw std::invalid_argument("input_scale: expected a finite number");
+  const int nu = static_cast<int>(solution.problem->inputs.size());
+  if (o.input_offset.size() != 0 && o.input_offset.size() != nu)
+    throw std::invalid_argument("input_offset: expected " + std::to_string(nu) + " values (one per input), got " +
+                                std::to_string(o.input_offset.size()));
+  if (o.engines.empty()) throw std::invalid_argument("engines: none given");
+  if (o.max_series < 2) throw std::invalid_argument("max_series: expected at least 2");
+}
+
+namespace {
+
+// The two engines behind one interface.
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  virtual void step(const Eigen::VectorXd& tau) = 0;
+  virtual const Eigen::VectorXd& q() const = 0;
+  virtual const Eigen::VectorXd& v() const = 0;
+  virtual double energy() = 0;
+  virtual double maxPenetration() const = 0;  // the engine's own count, limit stops included
+  // Scene contact c after the last step.
+  virtual double gap(int c) const = 0;
+  virtual double vn(int c) const = 0;
+  virtual double impulse(int c) const = 0;  // |p_n| + |p_t|
+};
+
+class SaltusEngine final : public Engine {
+ public:
+  SaltusEngine(const scene::Scene& scene, const ReplayOptions& o, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0)
+      : sim_(scene, stepperOptions(o)) {
+    sim_.reset(q0, v0, 0.0);
+  }
+  static timestepper::StepperOptions stepperOptions(const ReplayOptions& o) {
+    timestepper::StepperOptions s;
+    s.dt = o.dt;
+    s.theta = o.theta;
+    return s;
+  }
+  void step(const Eigen::VectorXd& tau) override {
+    sim_.setInput(tau);
+    sim_.step();
+  }
+  const Eigen::VectorXd& q() const override { return sim_.q(); }
+  const Eigen::VectorXd& v() const override { return sim_.v(); }
+  double energy() override { return sim_.energy(); }
+  double maxPenetration() const override { return sim_.stats().max_penetration; }
+  double gap(int c) const override { return sim_.contacts()[c].gap; }
+  double vn(int c) const override { return sim_.contacts()[c].vn; }
+  double impulse(int c) const override {
+    const timestepper::ContactReport& r = sim_.contacts()[c];
+    return std::abs(r.pn) + std::hypot(r.pt1, r.pt2);
+  }
+  long lcpFailures() const { return sim_.stats().lcp_failures; }
+
+ private:
+  timestepper::TimeStepper sim_;
+};
+
+class BulletEngine final : public Engine {
+ public:
+  BulletEngine(const scene::Scene& scene, const ReplayOptions& o, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0)
+      : world_(scene, bulletOptions(o)) {
+    world_.reset(q0, v0, 0.0);
+  }
+  static BulletWorldOptions bulletOptions(const ReplayOptions& o) {
+    BulletWorldOptions b = o.bullet;
+    b.dt = o.dt;
+    return b;
+  }
+  void step(const Eigen::VectorXd& tau) override { world_.step(tau); }
+  const Eigen::VectorXd& q() const override { return world_.q(); }
+  const Eigen::VectorXd& v() const override { return world_.v(); }
+  double energy() override { return world_.energy(); }
+  double maxPenetration() const override { return world_.stats().max_penetration; }
+  double gap(int c) const override { return world_.contacts()[c].gap; }
+  double vn(int c) const override { return world_.contacts()[c].vn; }
+  double impulse(int c) const override {
+    const BulletContactReport& r = world_.contacts()[c];
+    return std::abs(r.pn) + std::hypot(r.pt1, r.pt2);
+  }
+  const BulletWorld& world() const { return world_; }
+
+ private:
+  BulletWorld world_;
+};
+
+// Gaps and normal velocities of the scene contacts at (q, v), with the collocation's contact
+// points (the same geometry as the scene's contacts).
+class ContactKinematics {
+ public:
+  ContactKinematics(const collocation::Transcription& t)
+      : t_(t), model_(t.problem().scene.model), data_(model_), nc_(static_cast<int>(t.problem().scene.contacts.size())) {}
+  int contacts() const { return nc_; }
+  void set(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    dynamics::forwardKinematics(model_, data_, q, v);
+    q_ = q;
+    v_ = v;
+  }
+  double gap(int c) const { return t_.contacts()[c].gap(data_, q_.data()); }
+  double vn(int c) const { return collocation::normalVelocity(t_.contacts()[c], data_, v_.data()); }
+  double energy() const { return dynamics::kineticEnergy(model_, data_) + dynamics::potentialEnergy(model_, data_); }
+
+ private:
+  const collocation::Transcription& t_;
+  const dynamics::Model<double>& model_;
+  dynamics::Data<double> data_;
+  int nc_;
+  Eigen::VectorXd q_, v_;
+};
+
+// Mean of the input polynomial over [a, b]: the P-point Gauss–Legendre rule on each part of the
+// interval inside one element (exact for the degree-(P − 1) polynomial of an element).
+Eigen::VectorXd meanInput(const CollocationTrajectory& traj, const collocation::LegendreGauss& lg, int nu, double a,
+                          double b) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(nu);
+  if (nu == 0) return sum;
+  const std::vector<double>& mesh = traj.meshTimes();
+  for (int n = traj.elementAt(a, Side::After); n < traj.elements() && mesh[n] < b; ++n) {
+    const double lo = std::max(a, mesh[n]), hi = std::min(b, mesh[n + 1]);
+    if (!(hi > lo)) continue;
+    const double h = mesh[n + 1] - mesh[n], mid = (lo + hi) / 2, half = (hi - lo) / 2;
+    for (int j = 0; j < lg.P; ++j) {
+      const double s = std::clamp((mid + half * lg.x[j] - mesh[n]) / h, 0.0, 1.0);
+      sum += lg.w[j] * half * traj.atElement(n, s).u;
+    }
+  }
+  return sum / (b - a);
+}
+
+// Touchdown and lift-off from gaps on the time grid.
+void closingEvents(const std::vector<std::vector<double>>& gaps, const std::vector<double>& t, double threshold,
+                   std::vector<ContactEvent>& out) {
+  for (std::size_t c = 0; c < gaps.size(); ++c) {
+    bool closed = gaps[c][0] <= threshold;
+    for (std::size_t k = 1; k < t.size(); ++k) {
+      const bool now = gaps[c][k] <= threshold;
+      if (now != closed)
+        out.push_back({now ? ContactEvent::Touchdown : ContactEvent::LiftOff, static_cast<int>(c), t[k]});
+      closed = now;
+    }
+  }
+}
+
+void sortEvents(std::vector<ContactEvent>& events) {
+  std::stable_sort(events.begin(), events.end(), [](const ContactEvent& a, const ContactEvent& b) { return a.t < b.t; });
+}
+
+// Greedy, in time order: each optimised event takes the nearest unused replayed event of the
+// same kind and contact within the window.
+void matchEvents(const std::vector<ContactEvent>& optimised, EngineReplay& e, double window) {
+  std::vector<bool> used(e.events.size(), false);
+  for (const ContactEvent& o : optimised) {
+    EventMatch m{o, false, {}, 0};
+    int best = -1;
+    for (std::size_t i = 0; i < e.events.size(); ++i) {
+      const ContactEvent& r = e.events[i];
+      if (used[i] || r.kind != o.kind || r.contact != o.contact || std::abs(r.t - o.t) > window) continue;
+      if (best < 0 || std::abs(r.t - o.t) < std::abs(e.events[best].t - o.t)) best = static_cast<int>(i);
+    }
+    if (best >= 0) {
+      used[best] = true;
+      m.matched = true;
+      m.replayed = e.events[best];
+      m.dt = m.replayed.t - o.t;
+    }
+    e.matches.push_back(m);
+  }
+  for (std::size_t i = 0; i < e.events.size(); ++i)
+    if (!used[i]) e.unmatched.push_back(e.events[i]);
+}
+
+}  // namespace
+
+ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options) {
+  checkReplayOptions(options, solution);
+  const collocation::Problem& problem = *solution.problem;
+  const collocation::Transcription& tr = *solution.transcription;
+  const CollocationTrajectory traj = solution.trajectory();
+  const dynamics::Model<double>& model = problem.scene.model;
+  const int nv = model.nv();
+  const int nu = static_cast<int>(problem.inputs.size());
+  const int nc = static_cast<int>(problem.scene.contacts.size());
+  const double dt = options.dt;
+
+  ReplayResult R;
+  R.options = options;
+  R.tolerance = options.resolvedTolerance();
+  R.problem = problem.name;
+  R.source = problem.source;
+  R.method = collocation::toString(tr.method());
+  R.end_time = traj.endTime();
+  R.mesh_times = traj.meshTimes();
+  for (int i = 0; i < nv; ++i) R.coordinates.push_back(model.coordinate_name[i]);
+  for (const scene::Contact& c : problem.scene.contacts) R.contacts.push_back(c.name);
+  for (int i : problem.inputs) R.inputs.push_back(model.coordinate_name[i]);
+  const scene::Scene scene = replayScene(solution);
+  R.surfaces = scene.surfaces;
+
+  // Steps that fit in [0, T] (the optimised trajectory is not defined beyond T).
+  const long n_steps = std::max(1L, static_cast<long>(std::floor(R.end_time / dt * (1 + 1e-12))));
+  R.steps = n_steps;
+  R.stride = static_cast<int>((n_steps + options.max_series - 1) / options.max_series);
+  auto recorded = [&](long k) { return k % R.stride == 0 || k == n_steps; };
+  auto timeOf = [&](long k) { return std::min(R.end_time, static_cast<double>(k) * dt); };
+
+  // The optimised trajectory on the step grid: states (right limits), mean inputs, gaps, energy.
+  std::vector<Eigen::VectorXd> q_opt(n_steps + 1), v_opt(n_steps + 1), u_mean(n_steps);
+  std::vector<std::vector<double>> gaps_opt(nc, std::vector<double>(n_steps + 1));
+  std::vector<double> t_grid(n_steps + 1);
+  ContactKinematics kin(tr);
+  const collocation::LegendreGauss& lg = tr.lg();
+  for (long k = 0; k <= n_steps; ++k) {
+    t_grid[k] = timeOf(k);
+    const collocation::TrajectoryPoint p = traj.at(t_grid[k], Side::After);
+    q_opt[k] = p.q;
+    v_opt[k] = p.v;
+    if (k < n_steps) u_mean[k] = meanInput(traj, lg, nu, t_grid[k], timeOf(k + 1));
+    kin.set(p.q, p.v);
+    for (int c = 0; c < nc; ++c) gaps_opt[c][k] = kin.gap(c);
+    if (recorded(k)) {
+      R.t.push_back(t_grid[k]);
+      R.q_opt.push_back(p.q);
+      R.v_opt.push_back(p.v);
+      R.energy_opt.push_back(kin.energy());
+      R.u_applied.push_back(k < n_steps ? u_mean[k] : u_mean[k - 1]);
+    }
+  }
+
+  // Optimised events: closings on the grid, impacts from the velocity jumps.
+  closingEvents(gaps_opt, t_grid, options.gap_threshold, R.optimised_events);
+  for (const CollocationTrajectory::Jump& j : traj.jumps(options.jump_threshold)) {
+    int contact = -1;
+    double largest = 0;
+    const collocation::ElementLayout& L = tr.layout()[j.element];
+    for (int c = 0; c < nc; ++c) {
+      const int rn = L.contacts[c].rn.empty() ? -1 : L.contacts[c].rn[0];
+      const double p = rn >= 0 ? std::abs(solution.x[rn]) : 0.0;
+      if (contact < 0 || p > largest) contact = c, largest = p;
+    }
+    if (contact < 0) continue;  // a jump at a joint-limit stop only
+    const collocation::TrajectoryPoint before = traj.at(j.t, Side::Before);
+    kin.set(before.q, before.v);
+    const bool no_approach = kin.gap(contact) <= options.gap_threshold && kin.vn(contact) > -options.approach_threshold;
+    R.optimised_events.push_back(
+        {no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, contact, j.t});
+  }
+  sortEvents(R.optimised_events);
+
+  Eigen::VectorXd offset = options.input_offset.size() == nu ? options.input_offset : Eigen::VectorXd::Zero(nu);
+  Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
+
+  for (ReplayEngine which : options.engines) {
+    EngineReplay E;
+    E.engine = which;
+    std::unique_ptr<Engine> engine;
+    if (which == ReplayEngine::Saltus) {
+      engine = std::make_unique<SaltusEngine>(scene, options, q_opt[0], v_opt[0]);
+    } else {
+      auto b = std::make_unique<BulletEngine>(scene, options, q_opt[0], v_opt[0]);
+      E.approximations = b->world().approximations();
+      engine = std::move(b);
+    }
+    E.energy_start = engine->energy();
+
+    Eigen::VectorXd tau(nv), v_before(nv);
+    Eigen::VectorXd dq = Eigen::VectorXd::Zero(nv), dv = Eigen::VectorXd::Zero(nv);  // of the last step
+    Eigen::VectorXd max_q = Eigen::VectorXd::Zero(nv), max_v = Eigen::VectorXd::Zero(nv);
+    Eigen::VectorXd sum_q2 = Eigen::VectorXd::Zero(nv), sum_v2 = Eigen::VectorXd::Zero(nv);
+    Eigen::VectorXd t_max_q = Eigen::VectorXd::Zero(nv);
+    double sum_max2 = 0;  // Σ_k max_i dq_i²: the RMS of the largest coordinate deviation
+    std::vector<std::vector<double>> gaps(nc, std::vector<double>(n_steps + 1));
+    std::vector<double> vn_prev(nc);
+    kin.set(q_opt[0], v_opt[0]);
+    for (int c = 0; c < nc; ++c) gaps[c][0] = gaps_opt[c][0], vn_prev[c] = kin.vn(c);
+    bool in_impact = false;
+    E.series.t.push_back(0.0);
+    E.series.q.push_back(engine->q());
+    E.series.v.push_back(engine->v());
+    E.series.dq.push_back(Eigen::VectorXd::Zero(nv));
+    E.series.dv.push_back(Eigen::VectorXd::Zero(nv));
+    E.series.energy.push_back(E.energy_start);
+    E.series.penetration.push_back(0.0);
+    long k = 0;
+    try {
+      for (; k < n_steps; ++k) {
+        tau = tau_base;
+        for (int i = 0; i < nu; ++i) {
+          const int coord = problem.inputs[i];
+          tau[coord] += options.input_scale * u_mean[k][i] + offset[i];
+          if (options.feedback == Feedback::Pd)
+            tau[coord] += options.kp * (q_opt[k][coord] - engine->q()[coord]) +
+                          options.kd * (v_opt[k][coord] - engine->v()[coord]);
+        }
+        v_before = engine->v();
+        engine->step(tau);
+        const Eigen::VectorXd& q = engine->q();
+        const Eigen::VectorXd& v = engine->v();
+        if (!q.allFinite() || !v.allFinite()) throw std::runtime_error("the state is no longer finite");
+        const long k1 = k + 1;
+        dq = q - q_opt[k1];
+        dv = v - v_opt[k1];
+        for (int i = 0; i < nv; ++i) {
+          if (std::abs(dq[i]) > max_q[i]) max_q[i] = std::abs(dq[i]), t_max_q[i] = t_grid[k1];
+          max_v[i] = std::max(max_v[i], std::abs(dv[i]));
+        }
+        sum_q2 += dq.cwiseAbs2();
+        sum_v2 += dv.cwiseAbs2();
+        sum_max2 += dq.cwiseAbs2().maxCoeff();
+
+        // Events and penetration.
+        double penetration = 0;
+        int hit = -1;
+        double largest = 0;
+        for (int c = 0; c < nc; ++c) {
+          gaps[c][k1] = engine->gap(c);
+          penetration = std::max(penetration, -gaps[c][k1]);
+          const double p = engine->impulse(c);
+          if (p > 0 && (hit < 0 || p > largest)) hit = c, largest = p;
+        }
+        E.max_penetration = std::max(E.max_penetration, penetration);
+        const bool impact = hit >= 0 && (v - v_before).cwiseAbs().maxCoeff() > options.jump_threshold;
+        if (impact && !in_impact) {
+          const bool no_approach = gaps[hit][k] <= options.gap_threshold && vn_prev[hit] > -options.approach_threshold;
+          E.events.push_back({no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, hit, t_grid[k1]});
+        }
+        in_impact = impact;
+        for (int c = 0; c < nc; ++c) vn_prev[c] = engine->vn(c);
+
+        if (recorded(k1)) {
+          E.series.t.push_back(t_grid[k1]);
+          E.series.q.push_back(q);
+          E.series.v.push_back(v);
+          E.series.dq.push_back(dq);
+          E.series.dv.push_back(dv);
+          E.series.energy.push_back(engine->energy());
+          E.series.penetration.push_back(std::max(0.0, penetration));
+        }
+      }
+      E.completed = true;
+    } catch (const std::exception& e) {
+      E.completed = false;
+      E.message = std::string(replayEngineName(which)) + " failed at t = " + std::to_string(t_grid[k]) + " s: " + e.what();
+    }
+    E.steps = k;
+    E.energy_end = engine->energy();
+    E.max_penetration = std::max(E.max_penetration, engine->maxPenetration());
+    if (auto* s = dynamic_cast<SaltusEngine*>(engine.get())) E.lcp_failures = s->lcpFailures();
+    if (auto* b = dynamic_cast<BulletEngine*>(engine.get())) E.mlcp_fallbacks = b->world().stats().mlcp_fallbacks;
+
+    const double steps = std::max(1L, k);
+    for (int i = 0; i < nv; ++i) {
+      CoordinateDeviation d;
+      d.coordinate = R.coordinates[i];
+      d.max_q = max_q[i];
+      d.t_max_q = t_max_q[i];
+      d.rms_q = std::sqrt(sum_q2[i] / steps);
+      d.max_v = max_v[i];
+      d.rms_v = std::sqrt(sum_v2[i] / steps);
+      d.final_q = std::abs(dq[i]);
+      d.final_v = std::abs(dv[i]);
+      E.coordinates.push_back(d);
+      if (d.max_q >= E.max_position_deviation) {
+        E.max_position_deviation = d.max_q;
+        E.t_max_position_deviation = d.t_max_q;
+      }
+      E.final_position_deviation = std::max(E.final_position_deviation, d.final_q);
+      E.max_velocity_deviation = std::max(E.max_velocity_deviation, d.max_v);
+      E.final_velocity_deviation = std::max(E.final_velocity_deviation, d.final_v);
+    }
+    E.rms_position_deviation = std::sqrt(sum_max2 / steps);
+    E.within_tolerance = E.completed && E.max_position_deviation <= R.tolerance;
+
+    std::vector<double> t_done(t_grid.begin(), t_grid.begin() + k + 1);
+    for (auto& g : gaps) g.resize(static_cast<std::size_t>(k) + 1);
+    closingEvents(gaps, t_done, options.gap_threshold, E.events);
+    sortEvents(E.events);
+    matchEvents(R.optimised_events, E, options.match_window);
+    R.engines.push_back(std::move(E));
+  }
+  return R;
+}
+
+}  // namespace saltus::verify
