@@ -71,6 +71,9 @@ struct StepperOptions {
   // Lemke: start from the previous step's solution when the active contacts are unchanged
   // (LcpSolver::solveLemkeWarm); false: every LCP from Lemke's usual start.
   bool warm_start = true;
+  // Split a step at the estimated time of impact t* of a contact that is open at its start and
+  // predicted to close within it: sub-step to t*, the impact, sub-step over the rest (see above).
+  bool locate_impacts = true;
   int pgs_iterations = 500;
   double pgs_tolerance = 1e-12;
 };
@@ -98,6 +101,7 @@ struct StepperStats {
   long lcp_solves = 0;
   long lcp_failures = 0;
   long lcp_warm_solves = 0;    // Lemke: contact LCPs solved by the previous step's basis, no pivot
+  long located_impacts = 0;    // steps split at an estimated time of impact (locate_impacts)
   int max_lcp_size = 0;
   double max_penetration = 0;  // largest −gap seen after a step (before projection) [m]
   double max_lcp_residual = 0;
@@ -125,10 +129,12 @@ class TimeStepper {
   const Eigen::Matrix<double, 3, 2>& tangentBasis(int surface) const { return tangents_[surface]; }
 
  private:
-  void buildRows(double t_next);
+  void linearise(double h);
+  double buildRows(double t_next, double h, bool predict);
+  void advance(double h);
   void delassus(int rows);
   void applyImpulses(int rows, Eigen::VectorXd& v);
-  void solveLcp(int nz);
+  void solveLcp(int nz, double h);
   void project();
   bool measureContacts();
   std::vector<std::string> activeNames() const;
