@@ -52,6 +52,7 @@ struct BenchOptions {
   std::vector<std::string> set;
   std::string solver = "lemke";
   double theta = 1.0;
+  bool no_locate_impacts = false;
   std::optional<double> duration;
   std::string out;
 };
@@ -128,7 +129,8 @@ struct EngineSetup {
   verify::BulletWorldOptions bullet;
   std::string describe() const {
     if (engine == Engine::Saltus)
-      return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver);
+      return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver) +
+             (saltus.locate_impacts ? ", impacts located within the step" : ", impacts at the step's start");
     return std::string("bullet: btMultiBodyDynamicsWorld, ") + verify::bulletSolverName(bullet.solver) +
            ", erp2 " + formatNumber(bullet.erp2) + ", restitution threshold " +
            formatNumber(bullet.restitution_threshold) + " m/s, contact sphere radius " +
@@ -136,10 +138,12 @@ struct EngineSetup {
   }
 };
 
-EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver) {
+EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver,
+                        bool locate_impacts) {
   EngineSetup e;
   e.engine = engine;
   e.saltus = stepperOptions(dt, theta, solver);
+  e.saltus.locate_impacts = locate_impacts;
   e.bullet.dt = dt;
   e.bullet.solver = bullet_solver;
   return e;
@@ -399,6 +403,7 @@ int workPrecision(const WorkPrecisionOptions& opt) {
   const LcpMethod solver = parseSolverOption(opt.solver);
   const std::vector<Engine> engines = parseEngines(opt.engine);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
+  const bool locate = !opt.no_locate_impacts;
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
   std::sort(dts.begin(), dts.end(), std::greater<>());
   dts.erase(std::unique(dts.begin(), dts.end()), dts.end());
@@ -417,10 +422,10 @@ int workPrecision(const WorkPrecisionOptions& opt) {
       << "# scene: " << scene.name << " (" << scene.source << "); parameters: " << parameterList(scene) << "\n"
       << "# method: ";
   for (std::size_t i = 0; i < engines.size(); ++i)
-    csv << (i ? "; " : "") << engineSetup(engines[i], dts[0], opt.theta, solver, bullet_solver).describe();
+    csv << (i ? "; " : "") << engineSetup(engines[i], dts[0], opt.theta, solver, bullet_solver, locate).describe();
   csv << ", duration " << formatNumber(duration) << " s\n";
   if (std::find(engines.begin(), engines.end(), Engine::Bullet) != engines.end()) {
-    const verify::BulletWorld probe(scene, engineSetup(Engine::Bullet, dts[0], opt.theta, solver, bullet_solver).bullet);
+    const verify::BulletWorld probe(scene, engineSetup(Engine::Bullet, dts[0], opt.theta, solver, bullet_solver, locate).bullet);
     for (const std::string& a : probe.approximations()) csv << "# bullet approximation: " << a << "\n";
   }
   csv << "# error: " << model.description << "\n"
@@ -432,7 +437,7 @@ int workPrecision(const WorkPrecisionOptions& opt) {
   bool any_failed = false;
   for (Engine engine : engines)
     for (double dt : dts) {
-      const EngineSetup setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver);
+      const EngineSetup setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate);
       const long steps = stepCount(duration, dt);
       const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
       const double error = runError(model, run);
@@ -475,12 +480,14 @@ struct PerStepOptions {
   std::string solver = "lemke";
   std::string bullet_solver = "dantzig";
   double theta = 1.0;
+  bool no_locate_impacts = false;
 };
 
 int perStep(const PerStepOptions& opt) {
   checkStepOptions("--dt", opt.dt, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
+  const bool locate = !opt.no_locate_impacts;
   if (opt.repeat < 1) throw UsageError("--repeat: expected a positive count");
   if (!(opt.min_time >= 0) || !std::isfinite(opt.min_time))
     throw UsageError("--min-time: expected a non-negative number of seconds");
@@ -494,7 +501,9 @@ int perStep(const PerStepOptions& opt) {
   std::cout << "# saltus bench per-step: dt " << formatNumber(opt.dt) << " s; ns per step = fastest of " << opt.repeat
             << " rounds (each the fastest run of at least " << formatNumber(opt.min_time)
             << " s CPU), the engines interleaved; error as in work-precision\n"
-            << "# saltus: theta " << formatNumber(opt.theta) << ", " << solverName(solver) << "; bullet: "
+            << "# saltus: theta " << formatNumber(opt.theta) << ", " << solverName(solver)
+            << (opt.no_locate_impacts ? ", impacts at the step's start" : ", impacts located within the step")
+            << "; bullet: "
             << verify::bulletSolverName(bullet_solver) << ", tuned settings (verify/bullet_world.hpp)\n"
             << "scene,saltus_ns_per_step,bullet_ns_per_step,bullet_over_saltus,saltus_error,bullet_error,"
                "saltus_failures,bullet_failures\n";
@@ -506,7 +515,7 @@ int perStep(const PerStepOptions& opt) {
     double error[2] = {kNaN, kNaN};
     long failures[2] = {0, 0};
     for (int e = 0; e < 2; ++e) {
-      const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver);
+      const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
       const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
       error[e] = runError(model, run);
       failures[e] = run.failures;
@@ -514,7 +523,7 @@ int perStep(const PerStepOptions& opt) {
     }
     for (int round = 0; round < opt.repeat; ++round)
       for (int e = 0; e < 2; ++e) {
-        const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver);
+        const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
         ns[e] = std::min(ns[e], timeRuns(scene, setup, steps, opt.min_time).wall * 1e9 / steps);
       }
     std::cout << scene.name << "," << formatNumber(ns[0], 5) << "," << formatNumber(ns[1], 5) << ","
@@ -583,6 +592,7 @@ int stability(const StabilityOptions& opt) {
   const LcpMethod solver = parseSolverOption(opt.solver);
   const std::vector<Engine> engines = parseEngines(opt.engine);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
+  const bool locate = !opt.no_locate_impacts;
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
   std::sort(dts.begin(), dts.end());
   dts.erase(std::unique(dts.begin(), dts.end()), dts.end());
@@ -617,7 +627,7 @@ int stability(const StabilityOptions& opt) {
       << "# scene: " << base.name << " (" << base.source << "); parameters: " << parameterList(base) << "\n"
       << "# method: ";
   for (std::size_t i = 0; i < engines.size(); ++i)
-    csv << (i ? "; " : "") << engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver).describe();
+    csv << (i ? "; " : "") << engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver, locate).describe();
   csv << ", duration " << formatNumber(duration) << " s\n"
       << "# grid: dt x " << (frictions.empty() ? "" : "friction x ") << (restitutions.empty() ? "" : "restitution x ")
       << "(empty column: the scene has no such parameter)\n"
@@ -638,7 +648,7 @@ int stability(const StabilityOptions& opt) {
         if (!std::isnan(mu)) o["friction"] = mu;
         if (!std::isnan(e)) o["restitution"] = e;
         const Scene scene = loadScene(opt.scene, o);
-        const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver),
+        const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate),
                                             stepCount(duration, dt), exempt);
         ++counts[std::string(engineName(engine)) + " " + r.outcome];
         csv << engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
@@ -662,6 +672,8 @@ void addCommonOptions(CLI::App* app, BenchOptions& opt) {
   app->add_option("--set", opt.set, "Override a scene parameter: --set name=value (repeatable)")
       ->allow_extra_args(false);
   app->add_option("--theta", opt.theta, "θ of the θ-method, in [0.5, 1]")->capture_default_str();
+  app->add_flag("--no-locate-impacts", opt.no_locate_impacts,
+                "Saltus: resolve impacts at the start of the step instead of at their located time within it");
   app->add_option("--solver", opt.solver, "LCP solver of the saltus stepper: lemke or pgs")->capture_default_str();
   app->add_option("--engine", opt.engine, "Engine: saltus, bullet (btMultiBodyDynamicsWorld) or both")
       ->capture_default_str();
@@ -711,6 +723,9 @@ Command addBenchCommand(CLI::App& saltus) {
   ps_app->add_option("--dt", ps->dt, "Time step [s]")->capture_default_str();
   ps_app->add_option("--repeat", ps->repeat, "Timing rounds (the fastest is kept)")->capture_default_str();
   ps_app->add_option("--min-time", ps->min_time, "CPU seconds per timing (fastest run kept)")->capture_default_str();
+  ps_app->add_option("--theta", ps->theta, "θ of the saltus stepper's θ-method, in [0.5, 1]")->capture_default_str();
+  ps_app->add_flag("--no-locate-impacts", ps->no_locate_impacts,
+                   "Saltus: resolve impacts at the start of the step instead of at their located time within it");
   ps_app->add_option("--solver", ps->solver, "LCP solver of the saltus stepper: lemke or pgs")->capture_default_str();
   ps_app->add_option("--bullet-solver", ps->bullet_solver, "Bullet's solver: dantzig, lemke or si")
       ->capture_default_str();

@@ -1,6 +1,7 @@
 #include "timestepper/stepper.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "dynamics/crba.hpp"
@@ -39,6 +40,26 @@ void backSubstitute(const Eigen::MatrixXd& factor, double* x) {
 void choleskySolve(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
   forwardSubstitute(factor, x.data());
   backSubstitute(factor, x.data());
+}
+
+// When a contact that is open at the start of a step (gap g0 > 0, normal velocity vn) closes
+// within it: the earliest root in (0, h] of the gap model g(t) = g0 + vn t + c t², with c fitted
+// to the step's predicted end gap g(h) = g_end, or h when the model has no root there (it closes
+// within the margin at the end, or only grazes). A θ-step of length t from a body with constant
+// normal acceleration a_n ends at g0 + vn t + θ a_n t² (q_θ + θ t v*, v* = v + t a_n), the model
+// with c = θ a_n: a sub-step of length t* lands on the surface, at the approach velocity
+// vn + a_n t* = vn + c t*/θ. +∞ when that approach is slower than `threshold` (the impact would be
+// inelastic, which the step's own gap term already places at the step's end: no split).
+double impactTime(double g0, double vn, double g_end, double h, double theta, double threshold) {
+  const double c = (g_end - g0 - vn * h) / (h * h);
+  const double discriminant = vn * vn - 4 * c * g0;
+  double t = h;
+  const double denominator = -vn + std::sqrt(std::max(discriminant, 0.0));
+  if (discriminant >= 0 && denominator > 0) {  // 2 g0 / denominator: the smaller positive root,
+    const double root = 2 * g0 / denominator;  // without cancellation
+    if (root > 0 && root < h) t = root;
+  }
+  return vn + c * t / theta < -threshold ? t : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -111,11 +132,19 @@ double TimeStepper::energy() {
   return dynamics::kineticEnergy(scene_.model, data_) + dynamics::potentialEnergy(scene_.model, data_);
 }
 
-// Active normal rows (contacts, then limit stops) into the top of J_, their friction rows below.
-// Needs the kinematics and v_free_ at q_θ.
-void TimeStepper::buildRows(double t_next) {
+// Active normal rows (contacts, then limit stops) into the top of J_, their friction rows below,
+// for a (sub-)step of length h ending at t_next. Needs the kinematics and v_free_ at q_θ.
+// predict: a contact is also active when its predicted gap at the end of the step is within the
+// margin (the active-set rule); false for the sub-step that ends at a located impact (the contacts
+// that close there are resolved by the impact) and for the impact itself (h = 0).
+// Returns the earliest estimated time of impact, in (0, h], of the contacts that are open at the
+// start of the step (gap > margin in reports_) and predicted to close within it faster than the
+// restitution threshold (impactTime), or +∞ when there is none or `predict` is false.
+double TimeStepper::buildRows(double t_next, double h, bool predict) {
   const dynamics::Model<double>& model = scene_.model;
-  const double th_h = options_.theta * options_.dt;
+  const double th_h = options_.theta * h;
+  const double margin = options_.contact_margin;
+  double t_close = std::numeric_limits<double>::infinity();
   active_.clear();
   active_gap_.clear();
   active_e_.clear();
@@ -123,11 +152,14 @@ void TimeStepper::buildRows(double t_next) {
   for (int c = 0; c < static_cast<int>(scene_.contacts.size()); ++c) {
     const Contact& contact = scene_.contacts[c];
     const Surface& surface = scene_.surfaces[contact.surface];
-    reports_[c].active = false;
     const double gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
     dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
     const double vn_free = surface.normal.dot(J_point_[c] * v_free_);
-    if (gap > options_.contact_margin && gap + th_h * vn_free > options_.contact_margin) continue;
+    const double gap_end = gap + th_h * vn_free;
+    if (gap > margin && (!predict || gap_end > margin)) continue;
+    if (predict && reports_[c].gap > margin)  // open at the start, closing within the step
+      t_close = std::min(t_close, impactTime(reports_[c].gap, reports_[c].vn, gap_end, h, options_.theta,
+                                             restitution_threshold_));
     const double vn = surface.normal.dot(J_point_[c] * v_);
     active_.push_back(c);
     active_gap_.push_back(gap);
@@ -137,11 +169,13 @@ void TimeStepper::buildRows(double t_next) {
   const int nc = static_cast<int>(scene_.contacts.size());
   for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
     const LimitStop& stop = scene_.limits[l];
-    reports_[nc + l].active = false;
     const double sign = stop.upper ? -1.0 : 1.0;
     const double gap = sign * (q_theta_[stop.coordinate] - stop.limit);
-    if (gap > options_.contact_margin && gap + th_h * sign * v_free_[stop.coordinate] > options_.contact_margin)
-      continue;
+    const double gap_end = gap + th_h * sign * v_free_[stop.coordinate];
+    if (gap > margin && (!predict || gap_end > margin)) continue;
+    if (predict && reports_[nc + l].gap > margin)
+      t_close = std::min(t_close, impactTime(reports_[nc + l].gap, reports_[nc + l].vn, gap_end, h, options_.theta,
+                                             restitution_threshold_));
     active_.push_back(nc + l);
     active_gap_.push_back(gap);
     active_e_.push_back(sign * v_[stop.coordinate] < -restitution_threshold_ ? stop.restitution : 0.0);
@@ -159,6 +193,7 @@ void TimeStepper::buildRows(double t_next) {
       surface_velocity_[f_++] = d.dot(v_surface);
     }
   }
+  return t_close;
 }
 
 // Y = L⁻¹ Jᵀ for the first `rows` rows of J, and the Delassus matrix W = J M⁻¹ Jᵀ = Yᵀ Y into
@@ -181,8 +216,9 @@ void TimeStepper::applyImpulses(int rows, Eigen::VectorXd& v) {
   v += impulse_;
 }
 
-// Assembles and solves the LCP in z = (p_n, β, λ); throws on failure. Needs J_ and llt_.
-void TimeStepper::solveLcp(int nz) {
+// Assembles and solves the LCP in z = (p_n, β, λ) of a (sub-)step of length h (h = 0: an impact,
+// velocities only); throws on failure. Needs J_ and llt_.
+void TimeStepper::solveLcp(int nz, double h) {
   const int nc = static_cast<int>(scene_.contacts.size());
   const int m = m_, f = f_;
   auto A = A_.topLeftCorner(nz, nz);
@@ -193,8 +229,8 @@ void TimeStepper::solveLcp(int nz) {
   for (int r = 0; r < m; ++r) {
     if (active_e_[r] > 0)  // impact: v_n⁺ ≥ −e v_n + (v_n* − v_n), i.e. w = W p + (1 + e) v_n
       b_[r] = (1 + active_e_[r]) * J_.row(r).dot(v_);
-    else if (active_gap_[r] > 0)  // + gap/(θh): an open gap may close within the step
-      b_[r] += active_gap_[r] / (options_.theta * options_.dt);
+    else if (active_gap_[r] > 0 && h > 0)  // + gap/(θh): an open gap may close within the step
+      b_[r] += active_gap_[r] / (options_.theta * h);
   }
   if (f > 0) b_.segment(m, f) -= surface_velocity_.head(f);
   // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
@@ -319,11 +355,11 @@ bool TimeStepper::measureContacts() {
   return penetrating;
 }
 
-void TimeStepper::step() {
+// The θ-method's linearisation for a (sub-)step of length h from (q_, v_): q_θ, M(q_θ) and its
+// Cholesky factor, the kinematics at q_θ and the free velocity v* (h = 0: v* = v, at q).
+void TimeStepper::linearise(double h) {
   const dynamics::Model<double>& model = scene_.model;
-  const double h = options_.dt, theta = options_.theta;
-  const int nc = static_cast<int>(scene_.contacts.size());
-  // Linearise at q_θ: M, bias forces and kinematics.
+  const double theta = options_.theta;
   q_theta_ = q_ + (1 - theta) * h * v_;
   dynamics::crba(model, data_, q_theta_);  // also fills the world poses used below
   llt_.compute(data_.M);
@@ -337,32 +373,66 @@ void TimeStepper::step() {
     choleskySolve(llt_.matrixLLT(), rhs_);
   }
   v_free_ = v_ + h * rhs_;
-  buildRows(t_ + h);
+}
 
+// Completes a (sub-)step of length h linearised by linearise(h), with the rows of buildRows: the
+// contact LCP, v⁺ and q⁺ = q_θ + θ h v⁺ into (q_, v_); the impulses are added to the reports.
+void TimeStepper::advance(double h) {
+  const int nc = static_cast<int>(scene_.contacts.size());
   Eigen::VectorXd& v_next = rhs_;  // reuse storage: v⁺
   v_next = v_free_;
-  for (ContactReport& r : reports_) r.pn = r.pt1 = r.pt2 = 0;
   if (m_ > 0) {
     int n_lambda = 0;
     for (int r = 0; r < m_; ++r) n_lambda += active_[r] < nc && scene_.contacts[active_[r]].directions > 0;
-    solveLcp(m_ + f_ + n_lambda);
+    solveLcp(m_ + f_ + n_lambda, h);
     applyImpulses(m_ + f_, v_next);  // v⁺ = v* + M⁻¹ (Nᵀ p_n + Dᵀ β)
     // Impulses per contact, tangential ones in the surface basis.
     int fr = m_;
     for (int r = 0; r < m_; ++r) {
       const int c = active_[r];
       reports_[c].active = true;
-      reports_[c].pn = z_[r];
+      reports_[c].pn += z_[r];
       if (c >= nc) continue;
       const Contact& contact = scene_.contacts[c];
       Eigen::Vector3d pt = Eigen::Vector3d::Zero();
       for (int j = 0; j < contact.directions; ++j) pt += z_[fr++] * directions_[c].col(j);
-      reports_[c].pt1 = pt.dot(tangents_[contact.surface].col(0));
-      reports_[c].pt2 = pt.dot(tangents_[contact.surface].col(1));
+      reports_[c].pt1 += pt.dot(tangents_[contact.surface].col(0));
+      reports_[c].pt2 += pt.dot(tangents_[contact.surface].col(1));
     }
   }
   v_ = v_next;
-  q_ = q_theta_ + theta * h * v_;
+  q_ = q_theta_ + options_.theta * h * v_;
+}
+
+void TimeStepper::step() {
+  const dynamics::Model<double>& model = scene_.model;
+  const double h = options_.dt;
+  const int nc = static_cast<int>(scene_.contacts.size());
+  for (ContactReport& r : reports_) {
+    r.active = false;
+    r.pn = r.pt1 = r.pt2 = 0;
+  }
+  linearise(h);
+  const double t_close = buildRows(t_ + h, h, true);
+  if (options_.locate_impacts && t_close <= h) {
+    // A contact open at the start closes at t* within the step: free (or constrained by the
+    // contacts already closed) motion to t*, the impact there with the approach velocity at t*,
+    // then the rest of the step (see the header).
+    ++stats_.located_impacts;
+    linearise(t_close);
+    buildRows(t_ + t_close, t_close, false);
+    advance(t_close);
+    linearise(0);
+    buildRows(t_ + t_close, 0, false);
+    advance(0);
+    if (t_close < h) {
+      linearise(h - t_close);
+      buildRows(t_ + h, h - t_close, true);
+      advance(h - t_close);
+    }
+  } else {
+    advance(h);
+  }
   t_ += h;
   ++stats_.steps;
   if (!q_.allFinite() || !v_.allFinite())

@@ -276,8 +276,8 @@ TEST(BenchStability, BallDropTinyGrid) {
 }
 
 TEST(BenchWorkPrecision, BothEnginesOnBallDrop) {
-  // Bullet (tuned, verify/bullet_world.hpp) and saltus (θ = 1) both find the first apex 0.24842 m at
-  // dt 1e-3 (exact 0.25): the same velocity-level Newton impact on a semi-implicit Euler step.
+  // Bullet (tuned, verify/bullet_world.hpp) finds the first apex 0.24842 m at dt 1e-3 (exact 0.25):
+  // a velocity-level Newton impact at the step's end on a semi-implicit Euler step.
   const TempDir dir("wpboth");
   const Result r = runSaltus({"bench", "work-precision", "ball_drop", "--engine", "both", "--dts", "1e-2,1e-3",
                               "--min-time", "0", "--out", dir.path().string()});
@@ -295,6 +295,30 @@ TEST(BenchWorkPrecision, BothEnginesOnBallDrop) {
   for (const std::string& c : csv.comments) lists_approximations |= c.find("# bullet approximation: ") == 0;
   EXPECT_TRUE(lists_approximations);
   EXPECT_GT(readFile(dir / "work_precision.png").size(), 1000u);
+}
+
+// Saltus with θ = ½ locates the impact within the step (the default): the first apex to the
+// grid's sampling, ≤ ½ g (dt/2)²; with --no-locate-impacts the impact is resolved at the step's
+// start and the apex is short by part of a step of free fall, as Bullet's.
+TEST(BenchWorkPrecision, LocatedImpactsAndTheSwitchOff) {
+  const TempDir dir("wplocate");
+  for (bool locate : {true, false}) {
+    std::vector<std::string> args = {"bench", "work-precision", "ball_drop", "--theta", "0.5", "--dts", "1e-3",
+                                     "--min-time", "0", "--out", dir.path().string()};
+    if (!locate) args.push_back("--no-locate-impacts");
+    const Result r = runSaltus(args);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Csv csv = readCsv(dir / "work_precision.csv");
+    ASSERT_EQ(csv.rows.size(), 1u);
+    if (locate)
+      EXPECT_LT(csv.number(0, "error"), 0.5 * 9.81 * 0.5e-3 * 0.5e-3);
+    else
+      EXPECT_NEAR(csv.number(0, "error"), 0.25 - 0.24842, 1e-4);
+    bool says = false;
+    for (const std::string& c : csv.comments)
+      says |= c.find(locate ? "impacts located within the step" : "impacts at the step's start") != std::string::npos;
+    EXPECT_TRUE(says) << "the method line says how impacts are resolved";
+  }
 }
 
 TEST(BenchErrors, ChartFailureIsReportedAndTheCsvStays) {
