@@ -72,7 +72,6 @@ int matchedEvents(const EngineReplay& e) {
 TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
   const SavedSolution& s = dropSolution();
   const double g = 9.81, h = 0.1, e = 0.5;
-  const double dv = (1 + e) * std::sqrt(2 * g * h);
   const ReplayResult r = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-4));
   ASSERT_EQ(r.engines.size(), 1u);
   const EngineReplay& E = r.engines[0];
@@ -80,7 +79,6 @@ TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
   EXPECT_EQ(r.tolerance, 1e-3);  // 10 m/s × dt
   EXPECT_TRUE(E.within_tolerance);
   EXPECT_GT(E.max_position_deviation, 0.0);
-  EXPECT_LT(E.max_position_deviation, 3 * dv * 1e-4);
   EXPECT_LE(E.rms_position_deviation, E.max_position_deviation);
   EXPECT_LE(E.final_position_deviation, E.max_position_deviation);
   EXPECT_EQ(E.max_penetration, 0.0);  // the stepper projects penetrations out
@@ -109,9 +107,12 @@ TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
   EXPECT_NEAR(E.energy_start, g * h, 1e-12);
   EXPECT_NEAR(E.energy_end, e * e * g * h, 2e-3);
 
-  // First order in dt.
-  const ReplayResult fine = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-5));
-  EXPECT_LT(fine.engines[0].max_position_deviation, 0.3 * E.max_position_deviation);
+  // The stepper locates the impact within the step and integrates free flight exactly at θ = ½:
+  // what remains is the optimisation's own error (complementarity relaxed to 1e-4), far below
+  // the first-order O(|Δv| dt) of an impact resolved at a step's end, and it does not grow with dt.
+  EXPECT_LT(E.max_position_deviation, 1e-6);
+  const ReplayResult coarse = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-3));
+  EXPECT_LT(coarse.engines[0].max_position_deviation, 1e-6);
 }
 
 // pendulum_conveyor: the belt steps on the mesh at [6, 0]; the replay must step it at the solved
