@@ -84,6 +84,17 @@ struct EquationOfMotion {
     }
     return false;
   }
+  // The Hessian of φ = λᵀF: nested duals only for the pairs within q and between q and q̇ (one
+  // outer direction per coordinate); the rest, in addHessian (functions.cpp), from first-order
+  // passes and double evaluations:
+  //   (q, q̈):  ∂²φ/∂q_i∂q̈_j = ∂(M(q) λ)_j/∂q_i, M symmetric; M(q) λ = RNEA(q, 0, λ) without gravity
+  //   (q, r):  φ_c = −f_c(r)·w_c(q), w_c = J_c(q) λ the point's velocity at q̇ = λ (RBDA 4.4)
+  //   (r_n, α_i): μ d_i·w_c (Activation; zero in the Direct form)
+  //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
+  //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
+  // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α.
+  bool pairByAd(int i, int j) const { return j < nv() && i < (with_dynamics ? 2 : 1) * nv(); }  // i ≥ j
+  void addHessian(const double* x, const double* lambda, double* H) const;
 
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -150,7 +161,7 @@ struct GapDefinition {
 };
 
 // Normal velocity of a contact, ẏ = d/dt gap(q) = n·v_P (or sign·q̇_i for a stop), and the
-// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardKinematics(q, q̇).
+// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardVelocities(q, q̇).
 template <class S>
 S normalVelocity(const ContactPoint& c, const dynamics::Data<S>& data, const S* v) {
   if (c.is_limit) return S(c.sign) * v[c.coordinate];
@@ -175,9 +186,9 @@ struct RestitutionBalance {
     const int n = models->model<double>().nv();
     const auto& model = models->model<S>();
     auto& data = models->data<S>();
-    dynamics::forwardKinematics(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    dynamics::forwardVelocities(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
     const S after = normalVelocity(*contact, data, x + n);
-    dynamics::forwardKinematics(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
+    dynamics::forwardVelocities(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
     const S before = normalVelocity(*contact, data, x + 3 * n);
     y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->e) * before;
   }
@@ -199,7 +210,7 @@ struct SlipSlack {
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
-    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    dynamics::forwardVelocities(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
     const dynamics::Vec3<S> slip =
         dynamics::pointVelocity(data, contact->body, dynamics::Vec3<S>(contact->p_B.cast<S>())) -
         surface_velocity.cast<S>();

@@ -10,7 +10,8 @@
 //   a chunk of 8 directions e_j (j ≤ i), so the outer derivative's inner derivatives are
 //   ∂²φ/∂x_i∂x_j; each pair of the lower triangle once, about ⌈n(n+1)/16⌉ evaluations but at
 //   least one per input. Fewer when the functor names the inputs it is affine in (AdFunction
-//   below): those carry no outer direction.
+//   below): those carry no outer direction; and fewer still when it computes some pairs itself
+//   (SuppliesHessianPairs: the equations of motion's bilinear and velocity blocks).
 #pragma once
 
 #include <Eigen/Core>
@@ -48,6 +49,17 @@ class LocalFunction {
 template <class F>
 concept DeclaresLinearInputs = requires(const F& f) {
   { f.nonlinear(0) } -> std::convertible_to<bool>;
+};
+
+// A functor may also compute some pairs of the Hessian itself, more cheaply than nested duals
+// can: `bool pairByAd(int i, int j) const` (i ≥ j) false for the pairs the sweeps are to leave
+// out, and `void addHessian(const double* x, const double* lambda, double* H) const` adding
+// ∂²(λᵀF)/∂x_i∂x_j of those pairs into H's lower triangle, which starts at zero outside the
+// sweeps' pairs. An input with none of its pairs left to the sweeps has no outer direction.
+template <class F>
+concept SuppliesHessianPairs = requires(const F& f, const double* x, double* H) {
+  { f.pairByAd(0, 0) } -> std::convertible_to<bool>;
+  f.addHessian(x, x, H);
 };
 
 // A LocalFunction from a functor F with `int inputs() const`, `int outputs() const` and
@@ -101,11 +113,19 @@ AdFunction<F>::AdFunction(F f)
   // directions); each pair of two nonlinear inputs goes to the row of either, whichever has room
   // left in its last chunk of 8 (the shorter row when both or neither have). The pairs within L
   // are zero.
+  // Pairs a functor supplies itself (SuppliesHessianPairs) are left out.
+  auto by_ad = [this](int i, int j) {
+    if constexpr (SuppliesHessianPairs<F>)
+      return static_cast<bool>(f_.pairByAd(std::max(i, j), std::min(i, j)));
+    else
+      return true;
+  };
   std::vector<std::vector<int>> rows(n_);
   for (int i = 0; i < n_; ++i) {
     if (!nonlinear[i]) continue;
-    rows[i].push_back(i);
-    rows[i].insert(rows[i].end(), linear_.begin(), linear_.end());
+    if (by_ad(i, i)) rows[i].push_back(i);
+    for (int l : linear_)
+      if (by_ad(i, l)) rows[i].push_back(l);
   }
   // The pairs go by distance from the diagonal, which keeps the rows even (nine nonlinear
   // inputs: nine sweeps; by rows, the last ones overflow into a tenth).
@@ -113,7 +133,7 @@ AdFunction<F>::AdFunction(F f)
   for (int d = 1; d < n_; ++d)
     for (int i = d; i < n_; ++i) {
       const int j = i - d;
-      if (!nonlinear[i] || !nonlinear[j]) continue;
+      if (!nonlinear[i] || !nonlinear[j] || !by_ad(i, j)) continue;
       const bool to_i = spare(rows[i]) != spare(rows[j]) ? spare(rows[i]) : rows[i].size() <= rows[j].size();
       if (to_i)
         rows[i].push_back(j);
@@ -154,6 +174,9 @@ template <class F>
 void AdFunction<F>::hessian(const double* x, const double* lambda, double* H) const {
   // Nested duals: the outer one carries e_i, the inner one the sweep's e_j; the outer
   // derivative's inner derivatives are ∂²y_r/∂x_i∂x_j, summed with the weights λ_r.
+  if constexpr (SuppliesHessianPairs<F>)
+    for (int j = 0; j < n_; ++j)
+      for (int i = j; i < n_; ++i) H[i + j * n_] = 0.0;
   for (const Sweep& sweep : sweeps_) {
     for (int k = 0; k < n_; ++k) {
       x2_[k].value() = Dual(x[k], Eigen::Matrix<double, kChunk, 1>::Zero());
@@ -169,9 +192,12 @@ void AdFunction<F>::hessian(const double* x, const double* lambda, double* H) co
       H[std::max(i, j) + std::min(i, j) * n_] = s;
     }
   }
-  for (int b : linear_)
-    for (int a : linear_)
-      if (a >= b) H[a + b * n_] = 0.0;
+  if constexpr (SuppliesHessianPairs<F>)
+    f_.addHessian(x, lambda, H);
+  else
+    for (int b : linear_)
+      for (int a : linear_)
+        if (a >= b) H[a + b * n_] = 0.0;
 }
 
 template <class F>
