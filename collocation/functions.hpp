@@ -151,6 +151,7 @@ struct GapDefinition {
   int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
   int outputs() const { return static_cast<int>(contacts->size()); }
   bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; affine in y
+  bool pairByAd(int i, int) const { return i < models->model<double>().nv(); }  // y enters with coefficient 1
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -181,6 +182,12 @@ struct RestitutionBalance {
     const int n = models->model<double>().nv();
     return i < n || (i >= 2 * n && i < 3 * n);
   }
+  // The two sides do not mix and a⁺, a⁻ enter with constant coefficients: the pairs within
+  // (q, q̇) after and within (q, q̇) before.
+  bool pairByAd(int i, int j) const {  // i ≥ j
+    const int n = models->model<double>().nv();
+    return (j < n && i < 2 * n) || (j >= 2 * n && j < 3 * n && i < 4 * n);
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -206,6 +213,8 @@ struct SlipSlack {
   int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
   bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_P = J_P(q) q̇
+  // γ and ψ enter with constant coefficients: the pairs within (q, q̇).
+  bool pairByAd(int i, int j) const { return j < models->model<double>().nv() && i < 2 * models->model<double>().nv(); }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -229,6 +238,12 @@ struct Integration {
   int inputs() const { return 3 + static_cast<int>(c.size()); }
   int outputs() const { return 1; }
   bool nonlinear(int i) const { return i == 2; }  // h (times the rates)
+  // The one nonzero block, ∂²(λ y)/∂h∂ẋ_j = −λ c_j, written directly: no nested duals.
+  bool pairByAd(int, int) const { return false; }
+  void addHessian(const double*, const double* lambda, double* H) const {
+    const int n = inputs();
+    for (int j = 0; j < c.size(); ++j) H[(3 + j) + 2 * n] -= lambda[0] * c[j];
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     S sum(0);
