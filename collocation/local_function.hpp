@@ -90,8 +90,8 @@ class AdFunction final : public LocalFunction {
   void jacobian(const double* x, double* J) const override;
   void hessian(const double* x, const double* lambda, double* H) const override;
 
-  // The Hessian's forward-over-forward evaluations: one per nonlinear input while its row of
-  // pairs fits a chunk (tests).
+  // The Hessian's forward-over-forward evaluations: one per nonlinear input with pairs left to
+  // the sweeps, while its row of pairs fits a chunk (tests).
   int hessianSweeps() const { return static_cast<int>(sweeps_.size()); }
   // Whether the sweeps run in Dual2Small (every sweep's inner directions fit kSmallChunk).
   bool smallSweeps() const { return small_; }
