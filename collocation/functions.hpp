@@ -84,6 +84,17 @@ struct EquationOfMotion {
     }
     return false;
   }
+  // The Hessian of φ = λᵀF: nested duals only for the pairs within q and between q and q̇ (one
+  // outer direction per coordinate); the rest, in addHessian (functions.cpp), from first-order
+  // passes and double evaluations:
+  //   (q, q̈):  ∂²φ/∂q_i∂q̈_j = ∂(M(q) λ)_j/∂q_i, M symmetric; M(q) λ = RNEA(q, 0, λ) without gravity
+  //   (q, r):  φ_c = −f_c(r)·w_c(q), w_c = J_c(q) λ the point's velocity at q̇ = λ (RBDA 4.4)
+  //   (r_n, α_i): μ d_i·w_c (Activation; zero in the Direct form)
+  //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
+  //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
+  // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α.
+  bool pairByAd(int i, int j) const { return j < nv() && i < (with_dynamics ? 2 : 1) * nv(); }  // i ≥ j
+  void addHessian(const double* x, const double* lambda, double* H) const;
 
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -140,6 +151,7 @@ struct GapDefinition {
   int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
   int outputs() const { return static_cast<int>(contacts->size()); }
   bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; affine in y
+  bool pairByAd(int i, int) const { return i < models->model<double>().nv(); }  // y enters with coefficient 1
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -150,7 +162,7 @@ struct GapDefinition {
 };
 
 // Normal velocity of a contact, ẏ = d/dt gap(q) = n·v_P (or sign·q̇_i for a stop), and the
-// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardKinematics(q, q̇).
+// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardVelocities(q, q̇).
 template <class S>
 S normalVelocity(const ContactPoint& c, const dynamics::Data<S>& data, const S* v) {
   if (c.is_limit) return S(c.sign) * v[c.coordinate];
@@ -170,14 +182,20 @@ struct RestitutionBalance {
     const int n = models->model<double>().nv();
     return i < n || (i >= 2 * n && i < 3 * n);
   }
+  // The two sides do not mix and a⁺, a⁻ enter with constant coefficients: the pairs within
+  // (q, q̇) after and within (q, q̇) before.
+  bool pairByAd(int i, int j) const {  // i ≥ j
+    const int n = models->model<double>().nv();
+    return (j < n && i < 2 * n) || (j >= 2 * n && j < 3 * n && i < 4 * n);
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
     const auto& model = models->model<S>();
     auto& data = models->data<S>();
-    dynamics::forwardKinematics(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    dynamics::forwardVelocities(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
     const S after = normalVelocity(*contact, data, x + n);
-    dynamics::forwardKinematics(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
+    dynamics::forwardVelocities(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
     const S before = normalVelocity(*contact, data, x + 3 * n);
     y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->e) * before;
   }
@@ -195,11 +213,13 @@ struct SlipSlack {
   int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
   bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_P = J_P(q) q̇
+  // γ and ψ enter with constant coefficients: the pairs within (q, q̇).
+  bool pairByAd(int i, int j) const { return j < models->model<double>().nv() && i < 2 * models->model<double>().nv(); }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
-    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
+    dynamics::forwardVelocities(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
     const dynamics::Vec3<S> slip =
         dynamics::pointVelocity(data, contact->body, dynamics::Vec3<S>(contact->p_B.cast<S>())) -
         surface_velocity.cast<S>();
@@ -218,6 +238,12 @@ struct Integration {
   int inputs() const { return 3 + static_cast<int>(c.size()); }
   int outputs() const { return 1; }
   bool nonlinear(int i) const { return i == 2; }  // h (times the rates)
+  // The one nonzero block, ∂²(λ y)/∂h∂ẋ_j = −λ c_j, written directly: no nested duals.
+  bool pairByAd(int, int) const { return false; }
+  void addHessian(const double*, const double* lambda, double* H) const {
+    const int n = inputs();
+    for (int j = 0; j < c.size(); ++j) H[(3 + j) + 2 * n] -= lambda[0] * c[j];
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     S sum(0);

@@ -10,7 +10,8 @@
 //   a chunk of 8 directions e_j (j ≤ i), so the outer derivative's inner derivatives are
 //   ∂²φ/∂x_i∂x_j; each pair of the lower triangle once, about ⌈n(n+1)/16⌉ evaluations but at
 //   least one per input. Fewer when the functor names the inputs it is affine in (AdFunction
-//   below): those carry no outer direction.
+//   below): those carry no outer direction; and fewer still when it computes some pairs itself
+//   (SuppliesHessianPairs: the equations of motion's bilinear and velocity blocks).
 #pragma once
 
 #include <Eigen/Core>
@@ -26,6 +27,11 @@ namespace saltus::collocation {
 constexpr int kChunk = 8;
 using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, kChunk, 1>>;
 using Dual2 = Eigen::AutoDiffScalar<Eigen::Matrix<Dual, 1, 1>>;  // second order: e_i over a chunk
+// The same over a chunk of 4, for Hessians whose sweeps need no more inner directions (the
+// small models' rows): each nested-dual operation then carries 5 numbers per level, not 9.
+constexpr int kSmallChunk = 4;
+using DualSmall = Eigen::AutoDiffScalar<Eigen::Matrix<double, kSmallChunk, 1>>;
+using Dual2Small = Eigen::AutoDiffScalar<Eigen::Matrix<DualSmall, 1, 1>>;
 
 class LocalFunction {
  public:
@@ -50,9 +56,24 @@ concept DeclaresLinearInputs = requires(const F& f) {
   { f.nonlinear(0) } -> std::convertible_to<bool>;
 };
 
+// A functor may also name the pairs the sweeps are to leave out: `bool pairByAd(int i, int j)
+// const` (i ≥ j) false for them. They are zero unless the functor computes them itself, more
+// cheaply than nested duals can: `void addHessian(const double* x, const double* lambda,
+// double* H) const` adds ∂²(λᵀF)/∂x_i∂x_j of those pairs into H's lower triangle, which starts
+// at zero outside the sweeps' pairs. An input with none of its pairs left to the sweeps has no
+// outer direction.
+template <class F>
+concept DeclaresHessianPairs = requires(const F& f) {
+  { f.pairByAd(0, 0) } -> std::convertible_to<bool>;
+};
+template <class F>
+concept SuppliesHessianPairs = DeclaresHessianPairs<F> && requires(const F& f, const double* x, double* H) {
+  f.addHessian(x, x, H);
+};
+
 // A LocalFunction from a functor F with `int inputs() const`, `int outputs() const` and
 // `template <class S> void operator()(const S* x, S* y) const`, evaluated for S = double, Dual
-// and Dual2. The work arrays and the Hessian's plan of directions are made once, here; the
+// and Dual2 (or Dual2Small). The work arrays and the Hessian's plan of directions are made once, here; the
 // member functions are defined out of the class so that collocation/functions.cpp can
 // instantiate them for the transcription's functors, in a translation unit compiled with the
 // inlining limits the AD expression templates need (collocation/CMakeLists.txt).
@@ -69,9 +90,11 @@ class AdFunction final : public LocalFunction {
   void jacobian(const double* x, double* J) const override;
   void hessian(const double* x, const double* lambda, double* H) const override;
 
-  // The Hessian's forward-over-forward evaluations: one per nonlinear input while its row of
-  // pairs fits a chunk (tests).
+  // The Hessian's forward-over-forward evaluations: one per nonlinear input with pairs left to
+  // the sweeps, while its row of pairs fits a chunk (tests).
   int hessianSweeps() const { return static_cast<int>(sweeps_.size()); }
+  // Whether the sweeps run in Dual2Small (every sweep's inner directions fit kSmallChunk).
+  bool smallSweeps() const { return small_; }
 
  private:
   // One evaluation in Dual2: the outer direction e_outer, inner directions e_inner[0..count).
@@ -80,17 +103,23 @@ class AdFunction final : public LocalFunction {
     int inner[kChunk] = {};
   };
 
+  template <class D2>
+  void runSweeps(const double* x, const double* lambda, double* H, Eigen::Matrix<D2, Eigen::Dynamic, 1>& xs,
+                 Eigen::Matrix<D2, Eigen::Dynamic, 1>& ys) const;
+
   F f_;
   int n_, m_;
+  bool small_ = false;
   std::vector<Sweep> sweeps_;
   std::vector<int> linear_;  // the inputs in L (their pairs are zero in H)
   mutable Eigen::Matrix<Dual, Eigen::Dynamic, 1> xd_, yd_;
   mutable Eigen::Matrix<Dual2, Eigen::Dynamic, 1> x2_, y2_;
+  mutable Eigen::Matrix<Dual2Small, Eigen::Dynamic, 1> x2s_, y2s_;
 };
 
 template <class F>
 AdFunction<F>::AdFunction(F f)
-    : f_(std::move(f)), n_(f_.inputs()), m_(f_.outputs()), xd_(n_), yd_(m_), x2_(n_), y2_(m_) {
+    : f_(std::move(f)), n_(f_.inputs()), m_(f_.outputs()), xd_(n_), yd_(m_), x2_(n_), y2_(m_), x2s_(n_), y2s_(m_) {
   std::vector<bool> nonlinear(n_, true);
   if constexpr (DeclaresLinearInputs<F>)
     for (int i = 0; i < n_; ++i) nonlinear[i] = f_.nonlinear(i);
@@ -101,11 +130,19 @@ AdFunction<F>::AdFunction(F f)
   // directions); each pair of two nonlinear inputs goes to the row of either, whichever has room
   // left in its last chunk of 8 (the shorter row when both or neither have). The pairs within L
   // are zero.
+  // Pairs a functor supplies itself (SuppliesHessianPairs) are left out.
+  auto by_ad = [this](int i, int j) {
+    if constexpr (DeclaresHessianPairs<F>)
+      return static_cast<bool>(f_.pairByAd(std::max(i, j), std::min(i, j)));
+    else
+      return true;
+  };
   std::vector<std::vector<int>> rows(n_);
   for (int i = 0; i < n_; ++i) {
     if (!nonlinear[i]) continue;
-    rows[i].push_back(i);
-    rows[i].insert(rows[i].end(), linear_.begin(), linear_.end());
+    if (by_ad(i, i)) rows[i].push_back(i);
+    for (int l : linear_)
+      if (by_ad(i, l)) rows[i].push_back(l);
   }
   // The pairs go by distance from the diagonal, which keeps the rows even (nine nonlinear
   // inputs: nine sweeps; by rows, the last ones overflow into a tenth).
@@ -113,7 +150,7 @@ AdFunction<F>::AdFunction(F f)
   for (int d = 1; d < n_; ++d)
     for (int i = d; i < n_; ++i) {
       const int j = i - d;
-      if (!nonlinear[i] || !nonlinear[j]) continue;
+      if (!nonlinear[i] || !nonlinear[j] || !by_ad(i, j)) continue;
       const bool to_i = spare(rows[i]) != spare(rows[j]) ? spare(rows[i]) : rows[i].size() <= rows[j].size();
       if (to_i)
         rows[i].push_back(j);
@@ -128,6 +165,7 @@ AdFunction<F>::AdFunction(F f)
       std::copy_n(rows[i].begin() + static_cast<std::ptrdiff_t>(first), sweep.count, sweep.inner);
       sweeps_.push_back(sweep);
     }
+  small_ = std::all_of(sweeps_.begin(), sweeps_.end(), [](const Sweep& s) { return s.count <= kSmallChunk; });
 }
 
 template <class F>
@@ -152,26 +190,44 @@ void AdFunction<F>::jacobian(const double* x, double* J) const {
 
 template <class F>
 void AdFunction<F>::hessian(const double* x, const double* lambda, double* H) const {
+  if constexpr (DeclaresHessianPairs<F>)
+    for (int j = 0; j < n_; ++j)
+      for (int i = j; i < n_; ++i) H[i + j * n_] = 0.0;
+  if (small_)
+    runSweeps(x, lambda, H, x2s_, y2s_);
+  else
+    runSweeps(x, lambda, H, x2_, y2_);
+  if constexpr (SuppliesHessianPairs<F>)
+    f_.addHessian(x, lambda, H);
+  else if constexpr (!DeclaresHessianPairs<F>)
+    for (int b : linear_)
+      for (int a : linear_)
+        if (a >= b) H[a + b * n_] = 0.0;
+}
+
+template <class F>
+template <class D2>
+void AdFunction<F>::runSweeps(const double* x, const double* lambda, double* H, Eigen::Matrix<D2, Eigen::Dynamic, 1>& xs,
+                              Eigen::Matrix<D2, Eigen::Dynamic, 1>& ys) const {
   // Nested duals: the outer one carries e_i, the inner one the sweep's e_j; the outer
   // derivative's inner derivatives are ∂²y_r/∂x_i∂x_j, summed with the weights λ_r.
+  using Inner = typename D2::Scalar;
+  using InnerDerivatives = typename Inner::DerType;
   for (const Sweep& sweep : sweeps_) {
     for (int k = 0; k < n_; ++k) {
-      x2_[k].value() = Dual(x[k], Eigen::Matrix<double, kChunk, 1>::Zero());
-      x2_[k].derivatives()[0] = Dual(k == sweep.outer ? 1.0 : 0.0, Eigen::Matrix<double, kChunk, 1>::Zero());
+      xs[k].value() = Inner(x[k], InnerDerivatives::Zero());
+      xs[k].derivatives()[0] = Inner(k == sweep.outer ? 1.0 : 0.0, InnerDerivatives::Zero());
     }
-    for (int c = 0; c < sweep.count; ++c) x2_[sweep.inner[c]].value().derivatives()[c] = 1.0;
-    f_(x2_.data(), y2_.data());
+    for (int c = 0; c < sweep.count; ++c) xs[sweep.inner[c]].value().derivatives()[c] = 1.0;
+    f_(xs.data(), ys.data());
     for (int c = 0; c < sweep.count; ++c) {
       double s = 0;
       for (int r = 0; r < m_; ++r)
-        if (lambda[r] != 0.0) s += lambda[r] * y2_[r].derivatives()[0].derivatives()[c];
+        if (lambda[r] != 0.0) s += lambda[r] * ys[r].derivatives()[0].derivatives()[c];
       const int i = sweep.outer, j = sweep.inner[c];
       H[std::max(i, j) + std::min(i, j) * n_] = s;
     }
   }
-  for (int b : linear_)
-    for (int a : linear_)
-      if (a >= b) H[a + b * n_] = 0.0;
 }
 
 template <class F>

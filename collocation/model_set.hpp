@@ -1,5 +1,5 @@
 // The model and its workspaces for the three scalar types the local functions are evaluated in
-// (double, first- and second-order duals; local_function.hpp), with and without gravity: the
+// (double, first-order duals, second-order duals over chunks of 8 and of 4; local_function.hpp), with and without gravity: the
 // impulsive equation of motion (6) is RNEA at zero velocity without gravity, M(q) q̈.
 #pragma once
 
@@ -14,10 +14,10 @@ namespace saltus::collocation {
 class ModelSet {
  public:
   explicit ModelSet(const dynamics::Model<double>& model)
-      : models_(model, model.template cast<Dual>(), model.template cast<Dual2>()),
+      : models_(model, model.template cast<Dual>(), model.template cast<Dual2>(), model.template cast<Dual2Small>()),
         unforced_(withoutGravity(model), withoutGravity(model).template cast<Dual>(),
-                  withoutGravity(model).template cast<Dual2>()),
-        data_(std::get<0>(models_), std::get<1>(models_), std::get<2>(models_)) {}
+                  withoutGravity(model).template cast<Dual2>(), withoutGravity(model).template cast<Dual2Small>()),
+        data_(std::get<0>(models_), std::get<1>(models_), std::get<2>(models_), std::get<3>(models_)) {}
 
   template <class S> const dynamics::Model<S>& model() const { return std::get<dynamics::Model<S>>(models_); }
   template <class S> const dynamics::Model<S>& modelWithoutGravity() const {
@@ -31,9 +31,11 @@ class ModelSet {
     m.gravity.setZero();
     return m;
   }
-  using Models = std::tuple<dynamics::Model<double>, dynamics::Model<Dual>, dynamics::Model<Dual2>>;
+  using Models =
+      std::tuple<dynamics::Model<double>, dynamics::Model<Dual>, dynamics::Model<Dual2>, dynamics::Model<Dual2Small>>;
   Models models_, unforced_;
-  mutable std::tuple<dynamics::Data<double>, dynamics::Data<Dual>, dynamics::Data<Dual2>> data_;
+  mutable std::tuple<dynamics::Data<double>, dynamics::Data<Dual>, dynamics::Data<Dual2>, dynamics::Data<Dual2Small>>
+      data_;
 };
 
 }  // namespace saltus::collocation

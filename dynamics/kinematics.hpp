@@ -69,6 +69,27 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
   }
 }
 
+// Poses and velocities only (data.X_up, data.X_world, data.v; data.a_bias is left as it was):
+// the first loop of RBDA Table 5.1 without the c_J and v_i × S q̇ terms, for callers that need
+// point velocities alone (the collocation's slip and restitution functions, evaluated in nested
+// duals where those unused terms cost as much as the velocities).
+template <class S>
+void forwardVelocities(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v) {
+  for (int i = 0; i < model.nbodies(); ++i) {
+    updateJointTransform(model, data, i, q);
+    const int p = model.parent[i], k = model.first_coordinate[i];
+    const Motion<S> vJ = model.num_coordinates[i] == 1 ? jointVelocity(model, i, v[k])
+                                                        : multiJointVelocity(model, i, &data.S_joint[k], v.data() + k);
+    if (p < 0) {
+      data.X_world[i] = data.X_up[i];
+      data.v[i] = vJ;
+    } else {
+      data.X_world[i] = data.X_up[i] * data.X_world[p];
+      data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
+    }
+  }
+}
+
 // Poses, velocities and accelerations a_i = ^iX_λ a_λ + S q̈ + c_J + v_i × S q̇ (RBDA 5.7).
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,

@@ -1,7 +1,9 @@
 // AD of the local functions (collocation/local_function.hpp): the Hessian of λᵀF with the inputs
 // a functor declares linear (no outer directions for them) against an analytic Hessian, and, for
 // every functor of the transcription (collocation/functions.hpp), against the same functor with
-// every input taken as nonlinear: a wrong linearity claim shows as a missing second derivative.
+// every input taken as nonlinear: a wrong linearity claim shows as a missing second derivative,
+// and a pair a functor computes itself (the EOM's bilinear and q̇ blocks) is checked against the
+// nested duals' value.
 #include "collocation/local_function.hpp"
 
 #include <gtest/gtest.h>
@@ -141,6 +143,73 @@ TEST(AdFunction, DeclaredLinearInputsConveyor) {
 }
 TEST(AdFunction, DeclaredLinearInputsPointMass) {
   checkDeclaredLinearity(testing::pointMassDrop(0.5, 0.1, 2, 2), Method::Impulsive, 4);  // eom, gap, restitution, integration
+}
+
+// y = sin(x0) x1² + x0 x2 + 5 x2 x3: the sweeps compute the pairs within (x0, x1), the functor
+// writes (x2, x0) and (x3, x2) itself; x3 is affine. Two sweeps of at most two inner directions:
+// the chunk-of-4 duals.
+struct Supplied {
+  int inputs() const { return 4; }
+  int outputs() const { return 1; }
+  bool nonlinear(int i) const { return i < 3; }
+  bool pairByAd(int i, int) const { return i < 2; }
+  void addHessian(const double*, const double* lambda, double* H) const {
+    H[2 + 0 * 4] += lambda[0];
+    H[3 + 2 * 4] += 5 * lambda[0];
+  }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    using std::sin;
+    y[0] = sin(x[0]) * x[1] * x[1] + x[0] * x[2] + S(5) * x[2] * x[3];
+  }
+};
+
+TEST(AdFunction, SuppliedPairsAndSmallChunks) {
+  const AdFunction<Supplied> f(Supplied{});
+  EXPECT_EQ(f.hessianSweeps(), 2);
+  EXPECT_TRUE(f.smallSweeps());
+  const Eigen::VectorXd x = (Eigen::VectorXd(4) << 0.4, -0.9, 1.3, 0.6).finished();
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(1, -0.7);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(4, 4);
+  H(0, 0) = -lambda[0] * std::sin(x[0]) * x[1] * x[1];
+  H(1, 0) = 2 * lambda[0] * std::cos(x[0]) * x[1];
+  H(1, 1) = 2 * lambda[0] * std::sin(x[0]);
+  H(2, 0) = lambda[0];
+  H(3, 2) = 5 * lambda[0];
+  EXPECT_LT((lowerHessian(f, x, lambda) - H).cwiseAbs().maxCoeff(), 1e-14);
+  // Every pair of the lower triangle is written (the left-out ones zero), the upper one is not.
+  Eigen::MatrixXd raw = Eigen::MatrixXd::Constant(4, 4, 7.0);
+  f.hessian(x.data(), lambda.data(), raw.data());
+  EXPECT_EQ(raw(2, 2), 0.0);
+  EXPECT_EQ(raw(3, 0), 0.0);
+  EXPECT_EQ(raw(0, 3), 7.0);
+}
+
+// The pendulum's blocks: the EOM's nested duals only over q (one sweep per coordinate, chunks of
+// 4), the slip and restitution functions over q too, integration without sweeps. Their Hessians
+// against the all-nonlinear chunk-of-8 route are checked in DeclaredLinearInputsConveyor.
+TEST(AdFunction, ConveyorSweeps) {
+  const Transcription t(conveyorWithInput(), Method::Impulsive);
+  std::set<std::string> seen;
+  for (const Block& b : t.blocks()) {
+    if (const auto* eom = dynamic_cast<const AdFunction<EquationOfMotion>*>(b.f.get())) {
+      EXPECT_EQ(eom->hessianSweeps(), 2);  // nv = 2, with and without dynamics
+      EXPECT_TRUE(eom->smallSweeps());
+      seen.insert(eom->functor().with_dynamics ? "eom" : "impulsive eom");
+    } else if (const auto* slip = dynamic_cast<const AdFunction<SlipSlack>*>(b.f.get())) {
+      EXPECT_EQ(slip->hessianSweeps(), 2);
+      EXPECT_TRUE(slip->smallSweeps());
+      seen.insert("slip");
+    } else if (const auto* res = dynamic_cast<const AdFunction<RestitutionBalance>*>(b.f.get())) {
+      EXPECT_EQ(res->hessianSweeps(), 4);
+      EXPECT_TRUE(res->smallSweeps());
+      seen.insert("restitution");
+    } else if (const auto* in = dynamic_cast<const AdFunction<Integration>*>(b.f.get())) {
+      EXPECT_EQ(in->hessianSweeps(), 0);
+      seen.insert("integration");
+    }
+  }
+  EXPECT_EQ(seen.size(), 5u);
 }
 
 // The NLP's Hessian of the Lagrangian with multipliers on one EOM block only is that block's

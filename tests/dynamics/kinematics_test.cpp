@@ -1,5 +1,5 @@
 // Forward kinematics: velocities and accelerations of points are the time derivatives of the
-// positions (central differences along the motion).
+// positions (central differences along the motion); forwardVelocities agrees with it.
 #include "dynamics/kinematics.hpp"
 
 #include <gtest/gtest.h>
@@ -50,6 +50,29 @@ TEST(Kinematics, PointVelocityAndAccelerationAreDerivatives) {
       EXPECT_LT((pointVelocity(data, b, p) - (pp - pm) / (2 * eps)).norm(), 1e-7) << toString(base) << " body " << b;
       EXPECT_LT((pointAcceleration(data, b, p) - (vp - vm) / (2 * eps)).norm(), 1e-6) << toString(base) << " body " << b;
     }
+  }
+}
+
+// forwardVelocities: the poses and body velocities of forwardKinematics(q, v) to round-off (the
+// same operations without the bias accelerations; the compiler may contract them differently),
+// for every kind of base.
+TEST(Kinematics, ForwardVelocitiesAreThoseOfForwardKinematics) {
+  std::mt19937 rng(43);
+  for (BaseType base : {BaseType::Fixed, BaseType::Planar, BaseType::Free}) {
+    const Model<double> model = testing::randomTreeBuilder(rng, 6).build(base);
+    Data<double> full(model), light(model);
+    const Eigen::VectorXd q = testing::randomVector(rng, model.nv()), v = testing::randomVector(rng, model.nv());
+    forwardKinematics(model, full, q, v);
+    forwardVelocities(model, light, q, v);
+    double largest = 0;
+    for (int b = 0; b < model.nbodies(); ++b) {
+      largest = std::max(largest, light.v[b].v.norm());
+      EXPECT_LT((light.X_world[b].E - full.X_world[b].E).norm(), 1e-14) << toString(base) << " body " << b;
+      EXPECT_LT((light.X_world[b].r - full.X_world[b].r).norm(), 1e-14) << toString(base) << " body " << b;
+      EXPECT_LT((light.v[b].w - full.v[b].w).norm(), 1e-14) << toString(base) << " body " << b;
+      EXPECT_LT((light.v[b].v - full.v[b].v).norm(), 1e-14) << toString(base) << " body " << b;
+    }
+    EXPECT_GT(largest, 0.1) << toString(base);  // the bodies move
   }
 }
 
