@@ -37,6 +37,7 @@ Command addSimulateCommand(CLI::App& saltus);  // simulate.cpp
 Command addBenchCommand(CLI::App& saltus);     // bench.cpp: work-precision, stability
 Command addOptimizeCommand(CLI::App& saltus);  // optimize.cpp: trajectory optimisation through contact
 Command addRenderCommand(CLI::App& saltus);    // render.cpp: trajectory -> MP4 / PNG frames (off-screen)
+Command addRunCommand(CLI::App& saltus);       // run.cpp: the main job (optimize, replay, render, charts, report)
 
 // The --base option's value: fixed, planar or free.
 dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value);

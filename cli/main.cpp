@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
       cli::addOptimizeCommand(app),
       cli::addBenchCommand(app),
       cli::addRenderCommand(app),
+      cli::addRunCommand(app),
   };
 
   // CLI11 would call a missing or unknown command "required"; name them instead.
