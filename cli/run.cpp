@@ -421,7 +421,8 @@ int run(const RunOptions& opt) {
     for (char c : command) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
     md << "| " << s.name << " | " << status << " | " << (s.ran ? formatNumber(s.wall_seconds, 3) + " s" : "—") << " | `"
        << escaped << "` | " << (outputs.empty() ? "—" : outputs) << " | "
-       << (s.ran && exists(dir / s.log) ? "[" + s.log + "](" + s.log + ")" : "—") << " |\n";
+       << (!s.ran || !exists(dir / s.log) ? "—" : fs::file_size(dir / s.log) == 0 ? "(empty)" : "[" + s.log + "](" + s.log + ")")
+       << " |\n";
   }
   for (const PipelineStep& s : steps)
     if (s.ran && !s.ok()) {
