@@ -9,9 +9,10 @@
     charts.py trajectory DIR/trajectory.csv --png OUT.png --svg OUT.svg
         an optimised trajectory in the style of the paper's Figs. 3-4: positions, velocities (a
         velocity jump is a vertical segment: two rows share its t, before then after), contact
-        normal and tangential forces at the collocation points with the impulses as stems at
-        their instants (right-hand axis, N s); element boundaries as faint vertical lines, from
-        the h[n,0] values of DIR/variables.csv when it is there
+        normal and tangential forces at the collocation points (first order: at every step's end,
+        the method from DIR/summary.json) with the impulses as stems at their instants
+        (right-hand axis, N s); element boundaries as faint vertical lines, from the h[n,0]
+        values of DIR/variables.csv when it is there
 
 The CSV files start with '# key: value' comment lines (scene, method, error, ...) that give the
 titles. Each image is written to a temporary name beside the target and renamed into place.
@@ -223,13 +224,26 @@ def trajectory(args):
     # variable (their columns are 0); they are found from the element boundaries, or else as rows
     # whose force columns are all exactly zero.
     def is_mesh_row(i):
-        if mesh is None:
+        if steps is None:
             return False
-        tol = 1e-9 * max(1.0, abs(mesh[-1]))
-        return any(abs(t[i] - m) <= tol for m in mesh)
+        tol = 1e-9 * max(1.0, abs(steps[-1]))
+        return any(abs(t[i] - m) <= tol for m in steps)
 
     force_cols = [c for name in contacts for c in ["contact.%s.rn" % name] + tangential(name, "rt")]
-    if mesh is not None:
+    method, elements = "", None
+    summary_path = os.path.join(os.path.dirname(os.path.abspath(args.csv)), "summary.json")
+    if os.path.exists(summary_path):
+        import json
+        with open(summary_path) as f:
+            summary = json.load(f)
+        method, elements = summary.get("method", ""), summary.get("N")
+    steps = mesh  # first order: every step's boundary; the lines below mark whole elements
+    if mesh and isinstance(elements, int) and elements > 0 and (len(mesh) - 1) % elements == 0:
+        mesh = mesh[::(len(mesh) - 1) // elements]
+    if method == "first-order":
+        # backward-Euler steps: every row after the first is a step's end and carries its force
+        force_rows = list(range(1, len(rows)))
+    elif steps is not None:
         force_rows = [i for i in range(len(rows)) if not is_mesh_row(i)]
     else:
         force_rows = [i for i in range(len(rows)) if any(number(rows[i][c]) != 0 for c in force_cols)]
@@ -273,7 +287,6 @@ def trajectory(args):
     if contacts:
         ax = axes[2]
         boundaries(ax)
-        ax_p = ax.twinx()
         impulses = []  # (t, value, label, colour)
         series = 0
         for name in contacts:
@@ -293,18 +306,20 @@ def trajectory(args):
                     if math.isfinite(x) and abs(x) > max(1e-6, 1e-3 * largest):
                         impulses.append((t[i], x, "%s %s" % (name, pc.rsplit(".", 1)[1]), colour))
         shown = set()
+        ax_p = ax.twinx() if impulses else None
         for ti, x, label, colour in impulses:
             ax_p.vlines(ti, 0, x, color=colour, lw=2.0, alpha=0.8)
             ax_p.plot([ti], [x], "D", color=colour, ms=5, label=None if label in shown else label + " (impulse)")
             shown.add(label)
+        handles_p, labels_p = [], []
         if impulses:
             top = max(abs(x) for _, x, _, _ in impulses)
             ax_p.set_ylim(-1.15 * top, 1.15 * top)
             ax_p.axhline(0, color="0.3", lw=0.5)
-        ax_p.set_ylabel("impulse [N s]")
+            ax_p.set_ylabel("impulse [N s]")
+            handles_p, labels_p = ax_p.get_legend_handles_labels()
         ax.set_ylabel("force [N]")
         handles, labels = ax.get_legend_handles_labels()
-        handles_p, labels_p = ax_p.get_legend_handles_labels()
         ax.legend(handles + handles_p, labels + labels_p, fontsize=7, loc="best")
         ax.grid(True, axis="y", alpha=0.25)
 

@@ -79,11 +79,15 @@ TEST(CliRun, PointMassDropReportNamesOnlyFilesThatExist) {
     EXPECT_NE(report.find("| bullet |"), std::string::npos) << report;
     EXPECT_NE(report.find("Result: **ok**"), std::string::npos) << report;
   } else {
-    // Without it: reported as failed, no made-up results, and the run fails.
+    // Without it (or when it fails): reported as failed, and the run fails; without a
+    // replay.json no results are shown.
     EXPECT_EQ(replay.rfind("failed", 0), 0u) << replay;
     EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_NE(report.find("Result: **FAILED** (step replay failed)"), std::string::npos) << report;
-    EXPECT_EQ(report.find("| bullet |"), std::string::npos) << report;
+    if (!fs::exists(dir / "replay" / "replay.json")) {
+      EXPECT_EQ(report.find("| bullet |"), std::string::npos) << report;
+      EXPECT_NE(report.find("No replay results: the replay step failed"), std::string::npos) << report;
+    }
   }
 
   // The trajectory chart: a real PNG and SVG, not a stub.
