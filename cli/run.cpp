@@ -386,8 +386,9 @@ int run(const RunOptions& opt) {
           md << "Chart `" << c.get<std::string>() << "` is named by replay.json but missing.\n\n";
           continue;
         }
+        // PNG images shown; SVG (the same chart) and other files linked.
         const std::string ext = file.extension().string();
-        if (ext == ".png" || ext == ".svg" || ext == ".jpg")
+        if (ext == ".png" || ext == ".jpg")
           md << "![" << file.stem().string() << "](" << link(file) << ")\n\n";
         else
           md << "[" << file.filename().string() << "](" << link(file) << ")\n\n";
