@@ -2,7 +2,8 @@
 // size. The report exists, every file it links or shows exists and is not empty, each of the four
 // steps has a status, and the exit status agrees with them: 0 only when every step (replay
 // included, where this build has it) succeeded. An infeasible solve still gets its chart and
-// video, is marked in the report, and the run exits 1. The trajectory chart comes as PNG and SVG.
+// video, is marked in the report, and the run exits 1; a step that exits 0 without its files
+// fails. The trajectory chart comes as PNG and SVG.
 #include <unistd.h>
 
 #include <filesystem>
@@ -103,9 +104,11 @@ TEST(CliRun, PointMassDropReportNamesOnlyFilesThatExist) {
 
 TEST(CliRun, InfeasibleSolveIsMarkedAndTheRunFails) {
   const fs::path dir = runScratch("infeasible");
-  // Three Ipopt iterations cannot land the ball: optimize exits 1 but writes its files.
+  // Three Ipopt iterations cannot land the ball: optimize exits 1 but writes its files. The
+  // chart interpreter is /bin/true: it exits 0 without drawing, which is a failed step too.
   const auto r = runSaltus({"run", "point_mass_drop", "--ipopt", "max_iter=3", "--out", dir.string(), "--fps", "4",
-                            "--width", "64", "--height", "48", "--engine", "saltus"});
+                            "--width", "64", "--height", "48", "--engine", "saltus"},
+                           "SALTUS_PYTHON=/bin/true");
   EXPECT_EQ(r.status, 1) << r.err;
   const std::string report = readFile(dir / "report.md");
   expectLinkedFilesExist(dir, report);
@@ -113,7 +116,10 @@ TEST(CliRun, InfeasibleSolveIsMarkedAndTheRunFails) {
   EXPECT_NE(report.find("Result: **FAILED** (the solve is infeasible"), std::string::npos) << report;
   EXPECT_EQ(stepStatus(report, "optimize").rfind("failed (exit 1): the solve ended infeasible", 0), 0u) << report;
   EXPECT_EQ(stepStatus(report, "render"), "ok") << report;
-  EXPECT_EQ(stepStatus(report, "charts"), "ok") << report;
+  EXPECT_EQ(stepStatus(report, "charts"), "failed (exit 0): exited 0 but did not write charts/trajectory.png; exited 0 "
+                                          "but did not write charts/trajectory.svg")
+      << report;
+  EXPECT_NE(report.find("No trajectory chart: the charts step failed."), std::string::npos) << report;
   fs::remove_all(dir);
 }
 
