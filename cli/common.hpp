@@ -38,6 +38,7 @@ Command addBenchCommand(CLI::App& saltus);     // bench.cpp: work-precision, sta
 Command addOptimizeCommand(CLI::App& saltus);  // optimize.cpp: trajectory optimisation through contact
 Command addRenderCommand(CLI::App& saltus);    // render.cpp: trajectory -> MP4 / PNG frames (off-screen)
 Command addReplayCommand(CLI::App& saltus);    // replay.cpp: optimised inputs replayed in the stepper / Bullet
+Command addRunCommand(CLI::App& saltus);       // run.cpp: the main job (optimize, replay, render, charts, report)
 
 // The --base option's value: fixed, planar or free.
 dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value);

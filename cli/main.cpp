@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
       cli::addBenchCommand(app),
       cli::addRenderCommand(app),
       cli::addReplayCommand(app),
+      cli::addRunCommand(app),
   };
 
   // CLI11 would call a missing or unknown command "required"; name them instead.

@@ -1,8 +1,11 @@
 // saltus render TRAJECTORY.csv --scene SCENE | DIR: draws a trajectory off-screen (render/,
 // OSMesa) into PNG frames and/or an H.264 MP4 (through ffmpeg). DIR is an output directory of
-// `saltus optimize`: its summary.json names the problem ("source") and its parameter values
-// ("parameters"), whose scene is loaded here; DIR/trajectory.csv is the trajectory. A bare CSV
-// needs --scene (and the --set values it was simulated with). Files appear only when complete.
+// `saltus optimize`: its variables.csv rebuilds the solution, drawn through the collocation
+// polynomials (cli/collocation_source.hpp: states between the points on the polynomials,
+// impulses at the velocity jumps' instants); a directory without variables.csv falls back to
+// summary.json ("source", "parameters") for the scene and DIR/trajectory.csv, interpolated
+// linearly. A bare CSV needs --scene (and the --set values it was simulated with). Files appear
+// only when complete.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/collocation_source.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "collocation/problem_file.hpp"
@@ -101,18 +105,25 @@ int render(const RenderOptions& opt) {
   std::error_code error;
   if (!fs::exists(input, error)) throw std::runtime_error(opt.input + ": no such file or directory");
   scene::Scene scene;
-  std::string csv;
+  std::unique_ptr<render::TrajectorySource> source;
   if (fs::is_directory(input, error)) {
     if (opt.scene || !opt.set.empty())
       throw UsageError("--scene/--set: not used with a 'saltus optimize' directory (its summary.json names the scene)");
-    scene = sceneOfRunDirectory(input);
-    csv = (input / "trajectory.csv").string();
+    if (fs::exists(input / "variables.csv")) {
+      // The collocation polynomials between the points; the scene of the rebuilt problem.
+      auto collocation = std::make_unique<CollocationSource>(CollocationSource::load(input.string()));
+      scene = collocation->scene();
+      source = std::move(collocation);
+    } else {  // an older output directory: straight lines between the CSV rows
+      scene = sceneOfRunDirectory(input);
+      source = std::make_unique<render::CsvTrajectory>((input / "trajectory.csv").string(), scene);
+    }
   } else {
     if (!opt.scene) throw UsageError("--scene: required with a trajectory CSV (the scene it was simulated in)");
     scene = scene::loadScene(*opt.scene, parseSetOptions(opt.set));
-    csv = opt.input;
+    source = std::make_unique<render::CsvTrajectory>(opt.input, scene);
   }
-  const render::CsvTrajectory trajectory(csv, scene);
+  const render::TrajectorySource& trajectory = *source;
   const render::Animation animation(scene, trajectory, options, std::cerr);
 
   // Progress: a bar redrawn in place on a terminal, else a line every 25 % for long renders.

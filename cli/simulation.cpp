@@ -109,15 +109,20 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
   }
 }
 
-void runChartScript(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg) {
+std::vector<std::string> chartScriptCommand(const std::string& kind, const std::string& csv, const std::string& png,
+                                            const std::string& svg) {
   const std::string script = std::string(SALTUS_SOURCE_DIR) + "/scripts/charts.py";
   std::string python = "python3";
   if (const char* env = std::getenv("SALTUS_PYTHON"); env && *env)
     python = env;
   else if (::access("/usr/bin/python3", X_OK) == 0)
     python = "/usr/bin/python3";
+  return {python, script, kind, csv, "--png", png, "--svg", svg};
+}
 
-  std::vector<std::string> args{python, script, kind, csv, "--png", png, "--svg", svg};
+void runChartScript(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg) {
+  std::vector<std::string> args = chartScriptCommand(kind, csv, png, svg);
+  const std::string python = args[0], script = args[1];
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -46,6 +46,9 @@ void writeFileAtomically(const std::string& path, const std::string& text);
 // script's standard output goes to standard error). Throws std::runtime_error when the script
 // cannot be started or fails.
 void runChartScript(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg);
+// The command line runChartScript runs (interpreter, script, KIND, CSV, --png, PNG, --svg, SVG).
+std::vector<std::string> chartScriptCommand(const std::string& kind, const std::string& csv, const std::string& png,
+                                            const std::string& svg);
 
 // CSV-quotes a field when it holds a comma, quote or newline.
 std::string csvField(const std::string& s);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Charts of `saltus bench` results (python3 + matplotlib, Agg backend).
+"""Charts of `saltus bench` and `saltus optimize` results (python3 + matplotlib, Agg backend).
 
     charts.py work-precision DIR/work_precision.csv --png OUT.png --svg OUT.svg
         error vs CPU seconds per simulated second, log-log, one labelled point per dt
@@ -11,6 +11,13 @@
         tolerance, and below it the optimised vs the replayed positions
     charts.py replay-energy DIR/replay.csv --png OUT.png --svg OUT.svg
         `saltus replay`: energy over time, optimised and per engine
+    charts.py trajectory DIR/trajectory.csv --png OUT.png --svg OUT.svg
+        an optimised trajectory in the style of the paper's Figs. 3-4: positions, velocities (a
+        velocity jump is a vertical segment: two rows share its t, before then after), contact
+        normal and tangential forces at the collocation points (first order: at every step's end,
+        the method from DIR/summary.json) with the impulses as stems at their instants
+        (right-hand axis, N s); element boundaries as faint vertical lines, from the h[n,0]
+        values of DIR/variables.csv when it is there
 
 The CSV files start with '# key: value' comment lines (scene, method, error, ...) that give the
 titles. Each image is written to a temporary name beside the target and renamed into place.
@@ -233,6 +240,166 @@ def replay_deviation(args):
     save(fig, args.png, args.svg)
 
 
+def mesh_times(csv_path):
+    """Element boundaries from the h[n,0] values of variables.csv beside the trajectory, or None."""
+    path = os.path.join(os.path.dirname(os.path.abspath(csv_path)), "variables.csv")
+    if not os.path.exists(path):
+        return None
+    hs = []
+    with open(path) as f:
+        for line in f:
+            # name,value with the name unquoted (it holds commas: h[1,0]): split at the last comma
+            name, _, value = line.strip().rpartition(",")
+            if name.startswith("h[") and name.endswith(",0]"):
+                hs.append((int(name[2:].split(",")[0]), number(value)))
+    if not hs:
+        return None
+    hs.sort()
+    times, t = [0.0], 0.0
+    for _, h in hs:
+        t += h
+        times.append(t)
+    return times
+
+
+def trajectory(args):
+    import matplotlib.pyplot as plt
+
+    meta, rows = read_csv(args.csv)
+    if not rows:
+        raise SystemExit("charts.py: %s: no rows" % args.csv)
+    columns = list(rows[0].keys())
+    if "t" not in columns:
+        raise SystemExit("charts.py: %s: no column 't'" % args.csv)
+    t = [number(r["t"]) for r in rows]
+    qs = [c for c in columns if c.startswith("q.")]
+    vs = [c for c in columns if c.startswith("v.")]
+    if not qs:
+        raise SystemExit("charts.py: %s: no position column q.<coordinate>" % args.csv)
+    contacts = []  # contact names with a normal force column, in column order
+    for c in columns:
+        if c.startswith("contact.") and c.endswith(".rn"):
+            contacts.append(c[len("contact."):-len(".rn")])
+
+    def tangential(name, prefix):
+        # .rt, or .rt1/.rt2 for pyramids of 4 or more directions (drawn as two series)
+        single = "contact.%s.%s" % (name, prefix)
+        if single in columns:
+            return [single]
+        return [c for c in ("%s1" % single, "%s2" % single) if c in columns]
+
+    mesh = mesh_times(args.csv)
+    # Rows that carry a finite force: the collocation points. Mesh-point rows hold no force
+    # variable (their columns are 0); they are found from the element boundaries, or else as rows
+    # whose force columns are all exactly zero.
+    def is_mesh_row(i):
+        if steps is None:
+            return False
+        tol = 1e-9 * max(1.0, abs(steps[-1]))
+        return any(abs(t[i] - m) <= tol for m in steps)
+
+    force_cols = [c for name in contacts for c in ["contact.%s.rn" % name] + tangential(name, "rt")]
+    method, elements = "", None
+    summary_path = os.path.join(os.path.dirname(os.path.abspath(args.csv)), "summary.json")
+    if os.path.exists(summary_path):
+        import json
+        with open(summary_path) as f:
+            summary = json.load(f)
+        method, elements = summary.get("method", ""), summary.get("N")
+    steps = mesh  # first order: every step's boundary; the lines below mark whole elements
+    if mesh and isinstance(elements, int) and elements > 0 and (len(mesh) - 1) % elements == 0:
+        mesh = mesh[::(len(mesh) - 1) // elements]
+    if method == "first-order":
+        # backward-Euler steps: every row after the first is a step's end and carries its force
+        force_rows = list(range(1, len(rows)))
+    elif steps is not None:
+        force_rows = [i for i in range(len(rows)) if not is_mesh_row(i)]
+    else:
+        force_rows = [i for i in range(len(rows)) if any(number(rows[i][c]) != 0 for c in force_cols)]
+
+    panels = 3 if contacts else 2
+    fig, axes = plt.subplots(panels, 1, figsize=(7.5, 2.3 * panels + 0.6), sharex=True)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+
+    def boundaries(ax):
+        if mesh:
+            for m in mesh:
+                ax.axvline(m, color="0.55", lw=0.6, ls=":", zorder=1)
+
+    ax = axes[0]
+    boundaries(ax)
+    for k, c in enumerate(qs):
+        ax.plot(t, [number(r[c]) for r in rows], ".-", ms=3, lw=1.2, color=colours[k % len(colours)], label=c[2:])
+    ax.set_ylabel("position q")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, axis="y", alpha=0.25)
+
+    ax = axes[1]
+    boundaries(ax)
+    jumps = [i for i in range(1, len(rows)) if t[i] == t[i - 1]]
+    for k, c in enumerate(vs):
+        colour = colours[k % len(colours)]
+        v = [number(r[c]) for r in rows]
+        # One line per stretch between jumps; the jump itself a dashed vertical segment.
+        start = 0
+        for j in jumps + [len(rows)]:
+            ax.plot(t[start:j], v[start:j], ".-", ms=3, lw=1.2, color=colour, label=c[2:] if start == 0 else None)
+            start = j
+        for j in jumps:
+            if v[j] != v[j - 1]:
+                ax.plot([t[j], t[j]], [v[j - 1], v[j]], "--", lw=1.0, color=colour)
+    ax.set_ylabel("velocity q\u0307")
+    if vs:
+        ax.legend(fontsize=7, loc="best")
+    ax.grid(True, axis="y", alpha=0.25)
+
+    if contacts:
+        ax = axes[2]
+        boundaries(ax)
+        impulses = []  # (t, value, label, colour)
+        series = 0
+        for name in contacts:
+            for c in ["contact.%s.rn" % name] + tangential(name, "rt"):
+                colour = colours[series % len(colours)]
+                series += 1
+                label = "%s %s" % (name, c.rsplit(".", 1)[1])
+                ax.plot([t[i] for i in force_rows], [number(rows[i][c]) for i in force_rows], ".-", ms=3, lw=1.2,
+                        color=colour, label=label)
+                head, _, last = c.rpartition(".")
+                pc = head + ".p" + last[1:]  # rn -> pn, rt -> pt, rt1 -> pt1
+                if pc not in columns:
+                    continue
+                values = [number(r[pc]) for r in rows]
+                largest = max([abs(x) for x in values if math.isfinite(x)] + [0.0])
+                for i, x in enumerate(values):
+                    if math.isfinite(x) and abs(x) > max(1e-6, 1e-3 * largest):
+                        impulses.append((t[i], x, "%s %s" % (name, pc.rsplit(".", 1)[1]), colour))
+        shown = set()
+        ax_p = ax.twinx() if impulses else None
+        for ti, x, label, colour in impulses:
+            ax_p.vlines(ti, 0, x, color=colour, lw=2.0, alpha=0.8)
+            ax_p.plot([ti], [x], "D", color=colour, ms=5, label=None if label in shown else label + " (impulse)")
+            shown.add(label)
+        handles_p, labels_p = [], []
+        if impulses:
+            top = max(abs(x) for _, x, _, _ in impulses)
+            ax_p.set_ylim(-1.15 * top, 1.15 * top)
+            ax_p.axhline(0, color="0.3", lw=0.5)
+            ax_p.set_ylabel("impulse [N s]")
+            handles_p, labels_p = ax_p.get_legend_handles_labels()
+        ax.set_ylabel("force [N]")
+        handles, labels = ax.get_legend_handles_labels()
+        ax.legend(handles + handles_p, labels + labels_p, fontsize=7, loc="best")
+        ax.grid(True, axis="y", alpha=0.25)
+
+    axes[-1].set_xlabel("t [s]")
+    name = os.path.basename(os.path.dirname(os.path.abspath(args.csv)))
+    title = args.title or name
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    save(fig, args.png, args.svg)
+
+
 def replay_energy(args):
     import matplotlib.pyplot as plt
     meta, rows = read_csv(args.csv)
@@ -253,7 +420,7 @@ def replay_energy(args):
 
 
 KINDS = {"work-precision": work_precision, "stability": stability, "replay-deviation": replay_deviation,
-         "replay-energy": replay_energy}
+         "replay-energy": replay_energy, "trajectory": trajectory}
 
 
 def main():
@@ -264,6 +431,8 @@ def main():
         p.add_argument("csv")
         p.add_argument("--png", required=True)
         p.add_argument("--svg", required=True)
+        if name == "trajectory":
+            p.add_argument("--title", help="chart title (default: the CSV's directory name)")
     args = parser.parse_args()
     try:
         KINDS[args.kind](args)
