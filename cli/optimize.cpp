@@ -98,7 +98,8 @@ int optimize(const OptimizeOptions& opt) {
   SolveOptions so;
   so.print_level = opt.print_level;
   so.ipopt = ipopt;
-  so.warm_seed = problem.seed_kind == SeedKind::Solution;
+  // Ipopt's warm settings (small μ, small bound push) suit a seed at a solution, not one perturbed away from it.
+  so.warm_seed = problem.seed_kind == SeedKind::Solution && problem.seed_scale <= 1e-3;
   so.restarts = problem.seed_scale > 0 ? problem.restarts : 0;  // without a perturbation every attempt is the same
   const SolveReport r = solve(t, seed, so);
 

@@ -238,10 +238,6 @@ int replayCommand(const ReplayCliOptions& opt) {
 
   // The solution.
   std::error_code ec;
-  if (!fs::exists(opt.dir, ec)) throw std::runtime_error(opt.dir + ": no such file or directory");
-  const fs::path variables = fs::is_directory(opt.dir) ? fs::path(opt.dir) / "variables.csv" : fs::path(opt.dir).parent_path() / "variables.csv";
-  if (!fs::exists(variables, ec))
-    throw std::runtime_error(variables.string() + ": missing (replay needs the decision variables that 'saltus optimize --out DIR' writes)");
   const collocation::SavedSolution solution = collocation::loadSolution(opt.dir);
   const int nu = static_cast<int>(solution.problem->inputs.size());
   if (!opt.input_offset.empty()) {

@@ -104,10 +104,7 @@ void runPipelineStep(PipelineStep& step, const fs::path& run_dir, const fs::path
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  std::vector<std::string> env_strings;
-  for (char** e = environ; e && *e; ++e)
-    if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) env_strings.emplace_back(*e);
-  env_strings.emplace_back("MPLBACKEND=Agg");
+  std::vector<std::string> env_strings = chartEnvironment();  // MPLBACKEND=Agg for the chart steps
   std::vector<char*> envp;
   for (std::string& e : env_strings) envp.push_back(e.data());
   envp.push_back(nullptr);
@@ -295,7 +292,7 @@ int run(const RunOptions& opt) {
     if (const auto rj = readJsonFile(replay_dir / "replay.json");
         replay.exit_status == 1 && rj && rj->contains("engines") && (*rj)["engines"].is_object()) {
       const nlohmann::json& engines = (*rj)["engines"];
-      bool completed = !engines.empty(), saltus_within = !engines.contains("saltus"), bullet_outside = false;
+      bool completed = !engines.empty(), saltus_within = false, bullet_outside = false;
       for (const auto& [name, e] : engines.items()) {
         completed = completed && e.value("completed", false);
         const bool within = e.value("within_tolerance", false);
@@ -307,7 +304,7 @@ int run(const RunOptions& opt) {
       if (rj->contains("charts") && (*rj)["charts"].is_array())
         for (const auto& c : (*rj)["charts"])
           charts_present = charts_present && c.is_string() && fs::exists(replay_dir / c.get<std::string>());
-      if (completed && saltus_within && bullet_outside && charts_present) {
+      if (completed && saltus_within && bullet_outside && charts_present && !rj->contains("chart_error")) {
         replay.bullet_outside_tolerance = true;
         replay.note = "Bullet's replay is outside the tolerance (Saltus's is within it): a result, see Replay";
       }
@@ -325,7 +322,8 @@ int run(const RunOptions& opt) {
         std::size_t k = frames.size() / 2;
         if (first_impulse >= 0)
           k = std::min(frames.size() - 1, static_cast<std::size_t>(std::ceil(first_impulse / speed * opt.fps)) + 2);
-        fs::rename(frames[k], still);
+        std::error_code rename_error;  // a failure leaves the still missing: the render step is marked failed
+        fs::rename(frames[k], still, rename_error);
       }
       fs::remove_all(frames_dir);
     }

@@ -120,17 +120,21 @@ std::vector<std::string> chartScriptCommand(const std::string& kind, const std::
   return {python, script, kind, csv, "--png", png, "--svg", svg};
 }
 
+std::vector<std::string> chartEnvironment() {
+  std::vector<std::string> env;
+  for (char** e = environ; e && *e; ++e)
+    if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) env.emplace_back(*e);
+  env.emplace_back("MPLBACKEND=Agg");
+  return env;
+}
+
 void runChartScript(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg) {
   std::vector<std::string> args = chartScriptCommand(kind, csv, png, svg);
   const std::string python = args[0], script = args[1];
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  // The environment with MPLBACKEND=Agg (no display needed).
-  std::vector<std::string> env_strings;
-  for (char** e = environ; e && *e; ++e)
-    if (std::strncmp(*e, "MPLBACKEND=", 11) != 0) env_strings.emplace_back(*e);
-  env_strings.emplace_back("MPLBACKEND=Agg");
+  std::vector<std::string> env_strings = chartEnvironment();
   std::vector<char*> envp;
   for (std::string& e : env_strings) envp.push_back(e.data());
   envp.push_back(nullptr);

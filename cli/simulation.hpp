@@ -45,6 +45,8 @@ void writeFileAtomically(const std::string& path, const std::string& text);
 // when set, else /usr/bin/python3 when it exists, else python3 from PATH; MPLBACKEND=Agg; the
 // script's standard output goes to standard error). Throws std::runtime_error when the script
 // cannot be started or fails.
+// This process's environment with MPLBACKEND=Agg (matplotlib without a display), for child processes.
+std::vector<std::string> chartEnvironment();
 void runChartScript(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg);
 // The command line runChartScript runs (interpreter, script, KIND, CSV, --png, PNG, --svg, SVG).
 std::vector<std::string> chartScriptCommand(const std::string& kind, const std::string& csv, const std::string& png,

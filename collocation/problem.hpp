@@ -69,7 +69,7 @@ struct CostTerms {
 enum class SeedKind {
   Null,       // zero everywhere, positions at the initial state, h = h_max (the paper's default vector)
   Perturbed,  // null, plus uniform random values in [0, seed_scale] on positions and reactions
-  Solution    // an earlier solution (its trajectory.csv), perturbed by seed_scale
+  Solution    // an earlier solution (its variables.csv, saved_solution.hpp), perturbed by seed_scale
 };
 
 enum class TotalTime { Free, Equal, AtLeast };

@@ -1,5 +1,7 @@
 #include "collocation/saved_solution.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -66,8 +68,8 @@ void writeSolution(const std::string& dir, const Transcription& t, const Eigen::
   for (const auto& [name, value] : p.parameters) std::fprintf(f, "# parameter.%s: %.17g\n", name.c_str(), value);
   std::fprintf(f, "name,value\n");
   for (int i = 0; i < t.variables(); ++i) std::fprintf(f, "%s,%.17g\n", t.variableNames()[i].c_str(), x[i]);
-  const bool ok = std::fflush(f) == 0 && !std::ferror(f);
-  std::fclose(f);
+  bool ok = std::fflush(f) == 0 && !std::ferror(f);
+  ok = std::fclose(f) == 0 && ok;
   std::error_code ec;
   if (!ok || (fs::rename(tmp, path, ec), ec)) {
     fs::remove(tmp, ec);
@@ -175,7 +177,10 @@ Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolutio
   double t0 = 0;
   for (int n = 0; n < target.elements(); ++n) {
     const ElementLayout& L = target.layout()[n];
-    const double h = std::clamp(T / target.elements(), target.variableLower()[L.h], target.variableUpper()[L.h]);
+    // The earlier element lengths when the element counts match (its mesh points, and so its
+    // velocity jumps, carry over), else equal lengths over its duration.
+    const double h_earlier = src.elements() == target.elements() ? earlier.x[src.layout()[n].h] : T / target.elements();
+    const double h = std::clamp(h_earlier, target.variableLower()[L.h], target.variableUpper()[L.h]);
     x[L.h] = h;
     for (std::size_t p = 0; p < L.points.size(); ++p) {
       const double t = std::min(t0 + h * L.tau[p], T);

@@ -52,7 +52,8 @@ SavedSolution loadSolution(const std::string& path);
 // A starting point for `target` from an earlier solution. With the same method and the same
 // variables (same mesh, scene and contacts) the values are copied by name; otherwise states,
 // accelerations and inputs are sampled from the earlier collocation polynomials at the target's
-// points (element lengths T / N, clamped to their bounds), velocity jumps at the target's mesh
+// points (the earlier element lengths when the element counts match, else T / N; clamped to
+// their bounds), velocity jumps at the target's mesh
 // points taken from the earlier trajectory, reactions left at zero. Gaps are recomputed and
 // every value projected into its bounds (Transcription::makeConsistent).
 Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolution& earlier);

@@ -142,7 +142,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
   report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
-  const StageReport& first = report.stages.back();
+  const StageReport first = report.stages.back();  // a copy: the task stage's push_back reallocates
   const bool first_feasible = first.succeeded && first.largest_product <= tolerance;
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.

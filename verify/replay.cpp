@@ -53,11 +53,15 @@ scene::Scene replayScene(const SavedSolution& solution) {
   const collocation::Problem& problem = *solution.problem;
   scene::Scene scene = problem.scene;
   const CollocationTrajectory traj = solution.trajectory();
+  // Steps count the problem's elements; the first-order method has several steps per element.
+  const int per_element = solution.transcription->method() == collocation::Method::FirstOrder
+                              ? problem.first_order_steps_per_element
+                              : 1;
   for (const auto& [surface, steps] : problem.surface_steps) {
     std::vector<scene::Surface::Step>& schedule = scene.surfaces.at(surface).velocity_schedule;
     schedule.clear();
     for (const collocation::SurfaceStep& s : steps)
-      schedule.push_back({traj.meshTimes().at(static_cast<std::size_t>(s.element)), s.velocity});
+      schedule.push_back({traj.meshTimes().at(static_cast<std::size_t>(s.element * per_element)), s.velocity});
   }
   return scene;
 }
@@ -310,7 +314,7 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
     for (int c = 0; c < nc; ++c) {
       const int rn = L.contacts[c].rn.empty() ? -1 : L.contacts[c].rn[0];
       const double p = rn >= 0 ? std::abs(solution.x[rn]) : 0.0;
-      if (contact < 0 || p > largest) contact = c, largest = p;
+      if (p > largest) contact = c, largest = p;  // −1 when no scene contact carries an impulse
     }
     if (contact < 0) continue;  // a jump at a joint-limit stop only
     const collocation::TrajectoryPoint before = traj.at(j.t, Side::Before);

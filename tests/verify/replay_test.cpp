@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
+#include <unistd.h>
 
 #include "collocation/problem_file.hpp"
 #include "collocation/solver.hpp"
@@ -233,6 +235,34 @@ TEST(Replay, RefusesBadOptions) {
   EXPECT_THROW(parseReplayEngines("ode"), std::invalid_argument);
   EXPECT_EQ(parseReplayEngines("both").size(), 2u);
   EXPECT_THROW(parseFeedback("pid"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace saltus::verify
+
+namespace saltus::verify {
+namespace {
+
+// The belt's step is given on the problem's elements ([6, 0]); the first-order method has
+// first_order_steps_per_element steps per element, so the step happens at step 6·spe's time.
+TEST(Replay, FirstOrderBeltStepsAtItsElementsMeshTime) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("saltus_replay_fo_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const collocation::Problem p = collocation::loadProblem("pendulum_conveyor");
+  const collocation::Transcription t(p, collocation::Method::FirstOrder);
+  collocation::writeSolution(dir.string(), t, t.perturb(t.nullSeed(), 0.1, 3));  // unequal step lengths
+  const collocation::SavedSolution s = collocation::loadSolution(dir.string());
+  const scene::Scene scene = replayScene(s);
+  const int spe = p.first_order_steps_per_element;
+  const auto& steps = p.surface_steps.at(0);
+  const auto& schedule = scene.surfaces[0].velocity_schedule;
+  ASSERT_EQ(schedule.size(), steps.size());
+  ASSERT_GT(steps.back().element, 0);
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    EXPECT_DOUBLE_EQ(schedule[i].time, s.trajectory().meshTimes()[steps[i].element * spe]) << "step " << i;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
