@@ -1,8 +1,9 @@
 // saltus bench: measurements of the time-stepper (timestepper/stepper.hpp) on a scene.
 //
-//   work-precision  sweeps the time step; for each dt the error against the scene's analytic
-//                   answer (timestepper/analytic.hpp) or, without a closed form, against a
-//                   reference run at dt_min/16 with θ = ½, and the cost (CPU seconds per simulated
+//   work-precision  sweeps the time step; for each dt the error against the scene's exact
+//                   answer (cli/bench_runs.hpp: timestepper/analytic.hpp and
+//                   timestepper/sticking_motion.hpp) or, without one, against a reference run at
+//                   dt_min/16 with θ = ½, and the cost (CPU seconds per simulated
 //                   second, wall ns per step; stepping only, no I/O). DIR/work_precision.csv and a
 //                   log-log chart DIR/work_precision.png/.svg.
 //   stability       a grid over large time steps, high friction and high restitution (the scene's
@@ -29,9 +30,9 @@
 #include <optional>
 #include <sstream>
 
+#include "cli/bench_runs.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
-#include "timestepper/analytic.hpp"
 #include "scene/scenario.hpp"
 #include "verify/bullet_world.hpp"
 
@@ -40,6 +41,7 @@ namespace saltus::cli {
 namespace {
 
 using namespace saltus::timestepper;
+using namespace saltus::cli::bench;
 using saltus::scene::loadScene;
 namespace fs = std::filesystem;
 
@@ -70,145 +72,6 @@ struct StabilityOptions : BenchOptions {
 const char* kDefaultFrictions = "0.3,0.6,1,2,5";
 const char* kDefaultRestitutions = "0,0.25,0.5,0.75,0.9,1";
 
-std::string parameterList(const Scene& scene) {
-  std::string s;
-  for (const auto& [name, value] : scene.parameters) s += (s.empty() ? "" : ", ") + name + "=" + formatNumber(value, 10);
-  return s.empty() ? "(none)" : s;
-}
-
-double parameter(const Scene& scene, const std::string& name) {
-  const auto it = scene.parameters.find(name);
-  return it == scene.parameters.end() ? kNaN : it->second;
-}
-
-bool hasParameters(const Scene& scene, std::initializer_list<const char*> names) {
-  for (const char* n : names)
-    if (!scene.parameters.count(n)) return false;
-  return true;
-}
-
-int coordinateIndex(const Scene& scene, const std::string& name) {
-  const auto& names = scene.model.coordinate_name;
-  const auto it = std::find(names.begin(), names.end(), name);
-  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
-}
-
-StepperOptions stepperOptions(double dt, double theta, LcpMethod solver) {
-  StepperOptions o;
-  o.dt = dt;
-  o.theta = theta;
-  o.solver = solver;
-  return o;
-}
-
-// ---------------------------------------------------------------------------------------------
-// engines: the saltus time-stepper and Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp)
-
-enum class Engine { Saltus, Bullet };
-const char* engineName(Engine e) { return e == Engine::Saltus ? "saltus" : "bullet"; }
-
-std::vector<Engine> parseEngines(const std::string& value) {
-  if (value == "saltus") return {Engine::Saltus};
-  if (value == "bullet") return {Engine::Bullet};
-  if (value == "both") return {Engine::Saltus, Engine::Bullet};
-  throw UsageError("--engine: expected saltus, bullet or both, got '" + value + "'");
-}
-
-verify::BulletSolver parseBulletSolverOption(const std::string& value) {
-  try {
-    return verify::parseBulletSolver(value);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--bullet-solver: ") + e.what());
-  }
-}
-
-// How one engine is set up for a run: the stepper options (saltus) or the world options (Bullet).
-struct EngineSetup {
-  Engine engine = Engine::Saltus;
-  StepperOptions saltus;
-  verify::BulletWorldOptions bullet;
-  std::string describe() const {
-    if (engine == Engine::Saltus)
-      return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver) +
-             (saltus.locate_impacts ? ", impacts located within the step" : ", impacts at the step's start");
-    return std::string("bullet: btMultiBodyDynamicsWorld, ") + verify::bulletSolverName(bullet.solver) +
-           ", erp2 " + formatNumber(bullet.erp2) + ", restitution threshold " +
-           formatNumber(bullet.restitution_threshold) + " m/s, contact sphere radius " +
-           formatNumber(bullet.contact_radius) + " m, cfm " + formatNumber(bullet.global_cfm);
-  }
-};
-
-EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver,
-                        bool locate_impacts) {
-  EngineSetup e;
-  e.engine = engine;
-  e.saltus = stepperOptions(dt, theta, solver);
-  e.saltus.locate_impacts = locate_impacts;
-  e.bullet.dt = dt;
-  e.bullet.solver = bullet_solver;
-  return e;
-}
-
-// The common face of both engines for the bench loops.
-class Sim {
- public:
-  virtual ~Sim() = default;
-  // Throws SimulationError (saltus: LCP failure or non-finite state; Bullet: non-finite state).
-  virtual void step() = 0;
-  virtual const Eigen::VectorXd& q() const = 0;
-  virtual const Eigen::VectorXd& v() const = 0;
-  virtual double time() const = 0;
-  virtual double energy() = 0;
-  virtual double firstContactImpulse() const = 0;
-  virtual long steps() const = 0;
-  virtual long failures() const = 0;  // LCP failures (saltus) / MLCP fallbacks (Bullet)
-  virtual double maxPenetration() const = 0;
-};
-
-class SaltusSim final : public Sim {
- public:
-  SaltusSim(const Scene& scene, const StepperOptions& o) : s_(scene, o) {}
-  void step() override { s_.step(); }
-  const Eigen::VectorXd& q() const override { return s_.q(); }
-  const Eigen::VectorXd& v() const override { return s_.v(); }
-  double time() const override { return s_.time(); }
-  double energy() override { return s_.energy(); }
-  double firstContactImpulse() const override { return s_.contacts().empty() ? 0.0 : s_.contacts()[0].pn; }
-  long steps() const override { return s_.stats().steps; }
-  long failures() const override { return s_.stats().lcp_failures; }
-  double maxPenetration() const override { return s_.stats().max_penetration; }
-
- private:
-  TimeStepper s_;
-};
-
-class BulletSim final : public Sim {
- public:
-  BulletSim(const Scene& scene, const verify::BulletWorldOptions& o) : w_(scene, o) {}
-  void step() override {
-    w_.step();
-    if (!w_.q().allFinite() || !w_.v().allFinite())
-      throw SimulationError("Bullet: the state is not finite at t = " + formatNumber(w_.time()) + " s", w_.time(), {},
-                            kNaN);
-  }
-  const Eigen::VectorXd& q() const override { return w_.q(); }
-  const Eigen::VectorXd& v() const override { return w_.v(); }
-  double time() const override { return w_.time(); }
-  double energy() override { return w_.energy(); }
-  double firstContactImpulse() const override { return w_.contacts().empty() ? 0.0 : w_.contacts()[0].pn; }
-  long steps() const override { return w_.stats().steps; }
-  long failures() const override { return w_.stats().mlcp_fallbacks; }
-  double maxPenetration() const override { return w_.stats().max_penetration; }
-
- private:
-  verify::BulletWorld w_;
-};
-
-std::unique_ptr<Sim> makeSim(const Scene& scene, const EngineSetup& e) {
-  if (e.engine == Engine::Saltus) return std::make_unique<SaltusSim>(scene, e.saltus);
-  return std::make_unique<BulletSim>(scene, e.bullet);
-}
-
 fs::path prepareOutputDirectory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -227,176 +90,6 @@ void drawCharts(const std::string& kind, const fs::path& csv, const fs::path& pn
 
 // ---------------------------------------------------------------------------------------------
 // work-precision
-
-// How a run's error is measured.
-struct ErrorModel {
-  enum Kind { BallApex, Slide, Reference } kind = Reference;
-  std::string description;
-  // BallApex
-  double apex_exact = 0;
-  // Slide
-  int s_index = -1;
-  double v0 = 0, mu = 0, alpha = 0, g = 0;
-  // Reference: states [q; v] at times t_ref[i]
-  std::vector<double> t_ref;
-  std::vector<Eigen::VectorXd> x_ref;
-};
-
-// One recorded (untimed) run: what the error needs.
-struct RecordedRun {
-  bool failed = false;
-  std::string message;
-  long steps = 0, failures = 0;
-  double t_end = 0;
-  Eigen::VectorXd x_end;         // [q; v] at the end
-  std::vector<double> z, pn;     // BallApex: height and normal impulse after every step
-};
-
-RecordedRun recordRun(const Scene& scene, const EngineSetup& setup, long steps, bool keep_bounce) {
-  RecordedRun r;
-  const std::unique_ptr<Sim> sim = makeSim(scene, setup);
-  if (keep_bounce) {
-    r.z.reserve(static_cast<std::size_t>(steps) + 1);
-    r.pn.reserve(static_cast<std::size_t>(steps) + 1);
-    r.z.push_back(sim->q()[0]);
-    r.pn.push_back(0);
-  }
-  try {
-    for (long i = 0; i < steps; ++i) {
-      sim->step();
-      if (keep_bounce) {
-        r.z.push_back(sim->q()[0]);
-        r.pn.push_back(sim->firstContactImpulse());
-      }
-    }
-  } catch (const SimulationError& e) {
-    r.failed = true;
-    r.message = e.what();
-  }
-  r.steps = sim->steps();
-  r.failures = sim->failures();
-  r.t_end = sim->time();
-  r.x_end.resize(sim->q().size() + sim->v().size());
-  r.x_end << sim->q(), sim->v();
-  return r;
-}
-
-// The reference trajectory for scenes without a closed form: θ = ½, dt_ref, to t_end.
-void referenceRun(ErrorModel& model, const Scene& scene, double dt_ref, LcpMethod solver, double t_end) {
-  TimeStepper stepper(scene, stepperOptions(dt_ref, 0.5, solver));
-  const long steps = stepCount(t_end, dt_ref) + 1;
-  model.t_ref.reserve(static_cast<std::size_t>(steps) + 1);
-  model.x_ref.reserve(static_cast<std::size_t>(steps) + 1);
-  const auto record = [&] {
-    Eigen::VectorXd x(stepper.q().size() + stepper.v().size());
-    x << stepper.q(), stepper.v();
-    model.t_ref.push_back(stepper.time());
-    model.x_ref.push_back(std::move(x));
-  };
-  record();
-  try {
-    for (long i = 0; i < steps; ++i) {
-      stepper.step();
-      record();
-    }
-  } catch (const SimulationError& e) {
-    throw std::runtime_error("the reference run (dt " + formatNumber(dt_ref) + " s, theta 0.5, " +
-                             solverName(solver) + ") failed: " + e.what());
-  }
-}
-
-// Reference state at time t, linear between the reference samples.
-Eigen::VectorXd referenceAt(const ErrorModel& model, double t) {
-  const auto& ts = model.t_ref;
-  const auto it = std::lower_bound(ts.begin(), ts.end(), t);
-  if (it == ts.begin()) return model.x_ref.front();
-  if (it == ts.end()) return model.x_ref.back();
-  const std::size_t i = static_cast<std::size_t>(it - ts.begin());
-  const double w = (t - ts[i - 1]) / (ts[i] - ts[i - 1]);
-  return (1 - w) * model.x_ref[i - 1] + w * model.x_ref[i];
-}
-
-ErrorModel makeErrorModel(const Scene& scene, const std::vector<double>& dts, double duration, LcpMethod solver) {
-  ErrorModel m;
-  if (scene.name == "ball_drop" && hasParameters(scene, {"height", "restitution"}) && scene.model.nv() == 1 &&
-      scene.contacts.size() == 1 && scene.limits.empty()) {
-    const double h0 = parameter(scene, "height"), e = parameter(scene, "restitution");
-    m.kind = ErrorModel::BallApex;
-    m.apex_exact = analytic::ballApex(h0, e, 1);
-    m.description = "|first apex - e^2 h0| with e^2 h0 = " + formatNumber(m.apex_exact, 8) +
-                    " m (apex: highest z between the first and the second impact; shared/reference/facts.md §3)";
-    return m;
-  }
-  if (scene.name == "block_slide" && hasParameters(scene, {"incline", "speed", "friction", "g"}) &&
-      coordinateIndex(scene, "s") >= 0) {
-    m.kind = ErrorModel::Slide;
-    m.s_index = coordinateIndex(scene, "s");
-    m.v0 = parameter(scene, "speed");
-    m.mu = parameter(scene, "friction");
-    m.alpha = parameter(scene, "incline");
-    m.g = parameter(scene, "g");
-    const double t_stop = analytic::slideStopTime(m.v0, m.mu, m.alpha, m.g);
-    if (std::tan(m.alpha) < m.mu)
-      m.description = "|s(T) - v0^2/(2 g (mu cos a - sin a))|: the stopping distance " +
-                      formatNumber(analytic::slideStopDistance(m.v0, m.mu, m.alpha, m.g), 8) + " m, reached at t = " +
-                      formatNumber(t_stop, 6) + " s" +
-                      (t_stop > duration ? " (after T: compared with v0 T + a T^2/2 instead)" : "");
-    else
-      m.description = "|s(T) - (v0 T + a T^2/2)| with a = g (sin a - mu cos a) = " +
-                      formatNumber(analytic::slideAcceleration(m.mu, m.alpha, m.g), 8) + " m/s^2 (tan a >= mu)";
-    return m;
-  }
-  m.kind = ErrorModel::Reference;
-  const double dt_ref = *std::min_element(dts.begin(), dts.end()) / 16;
-  double t_end = duration;
-  for (double dt : dts) t_end = std::max(t_end, stepCount(duration, dt) * dt);
-  std::cerr << "work-precision: " << scene.name << " has no closed form; reference run at dt " << formatNumber(dt_ref)
-            << " s (dt_min/16), theta 0.5 ..." << std::endl;
-  referenceRun(m, scene, dt_ref, solver, t_end);
-  m.description = "no closed form: |x(T) - x_ref(T)| (Euclidean norm over q and v) against a reference run at "
-                  "dt_min/16 = " + formatNumber(dt_ref) + " s with theta = 1/2";
-  return m;
-}
-
-double runError(const ErrorModel& m, const RecordedRun& r) {
-  if (r.failed) return kNaN;
-  switch (m.kind) {
-    case ErrorModel::BallApex:
-      return std::abs(analytic::firstApex(r.z, r.pn) - m.apex_exact);
-    case ErrorModel::Slide:
-      return std::abs(r.x_end[m.s_index] - analytic::slidePosition(m.v0, m.mu, m.alpha, m.g, r.t_end));
-    case ErrorModel::Reference:
-      return (r.x_end - referenceAt(m, r.t_end)).norm();
-  }
-  return kNaN;
-}
-
-struct Timing {
-  double wall = kNaN, cpu = kNaN;  // seconds per run, best of the repetitions
-  int repetitions = 0;
-};
-
-// Runs `steps` steps repeatedly (at least once, until min_time CPU seconds have been spent) and
-// keeps the fastest wall and CPU time of a run. Only stepping is timed.
-Timing timeRuns(const Scene& scene, const EngineSetup& setup, long steps, double min_time) {
-  Timing timing;
-  timing.wall = timing.cpu = std::numeric_limits<double>::infinity();
-  double spent = 0;
-  do {
-    const std::unique_ptr<Sim> sim = makeSim(scene, setup);
-    Sim& stepper = *sim;
-    const double cpu0 = cpuSeconds();
-    const auto wall0 = std::chrono::steady_clock::now();
-    for (long i = 0; i < steps; ++i) stepper.step();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    const double cpu = cpuSeconds() - cpu0;
-    timing.wall = std::min(timing.wall, wall);
-    timing.cpu = std::min(timing.cpu, cpu);
-    spent += cpu;
-    ++timing.repetitions;
-  } while (spent < min_time && timing.repetitions < 1000);
-  return timing;
-}
 
 int workPrecision(const WorkPrecisionOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);

@@ -329,7 +329,7 @@ void TimeStepper::project() {
 bool TimeStepper::measureContacts() {
   const dynamics::Model<double>& model = scene_.model;
   const int nc = static_cast<int>(scene_.contacts.size());
-  dynamics::forwardKinematics(model, data_, q_, v_);
+  dynamics::forwardVelocities(model, data_, q_, v_);  // poses and velocities: no J̇v needed
   bool penetrating = false;
   for (int c = 0; c < nc; ++c) {
     const Contact& contact = scene_.contacts[c];

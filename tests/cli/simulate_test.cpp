@@ -204,8 +204,8 @@ TEST(SimulateErrors, BadOptionsNameTheOption) {
 TEST(SimulateErrors, SimulationErrorLeavesNoFile) {
   // PGS does not converge on the paradoxical rod at μ = 5 (measured: t ≈ 0.78 s).
   const TempDir dir("lcpfail");
-  expectError(dir, {"simulate", "painleve_rod", "--solver", "pgs", "--set", "friction=5", "--dt", "1e-2", "--out",
-                    dir / "t.csv"},
+  expectError(dir, {"simulate", "painleve_rod", "--solver", "pgs", "--set", "friction=5", "--dt", "1e-2", "--duration",
+                    "1", "--out", dir / "t.csv"},
               1, {"LCP solver (pgs) failed at t = "});
 }
 
