@@ -5,12 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <LCP_Solvers.h>
-#include <LinearComplementarityProblem.h>
-#include <NumericsMatrix.h>
-#include <SolverOptions.h>
-#include <lcp_cst.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -23,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "tests/support/contact_lcp.hpp"
 #include "tests/support/heap_counter.hpp"
 
 namespace saltus::timestepper {
@@ -31,15 +26,12 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-MatrixXd randomMatrix(std::mt19937& rng, int rows, int cols, double scale = 1.0) {
-  std::normal_distribution<double> g(0.0, scale);
-  MatrixXd A(rows, cols);
-  for (int j = 0; j < cols; ++j)
-    for (int i = 0; i < rows; ++i) A(i, j) = g(rng);
-  return A;
-}
-
-VectorXd randomVector(std::mt19937& rng, int n, double scale = 1.0) { return randomMatrix(rng, n, 1, scale); }
+using testing::ContactLcp;
+using testing::randomContactLcp;
+using testing::randomMatrix;
+using testing::randomVector;
+using testing::SiconosSolution;
+using testing::siconosSolve;
 
 // M = A Aᵀ + I (symmetric positive definite), plus B − Bᵀ when not symmetric: positive definite,
 // hence a P-matrix, so the LCP has exactly one solution.
@@ -51,72 +43,6 @@ MatrixXd randomPMatrix(std::mt19937& rng, int n, bool symmetric) {
     M += B - B.transpose();
   }
   return M;
-}
-
-// The velocity-level contact LCP of the Stewart–Trinkle / Anitescu–Potra time-stepper, unknowns
-// (c_n, β, λ) for m contacts with k friction directions each:
-//   M = [Jn A Jnᵀ  Jn A Dᵀ  0;  D A Jnᵀ  D A Dᵀ  E;  μ  −Eᵀ  0],   q = (Jn v; D v; 0),
-// A = M_mass⁻¹ (SPD), E block diagonal with a column of k ones per contact, μ diagonal. The k
-// directions of a contact are cos(2πj/k) t1 + sin(2πj/k) t2: they positively span its tangent
-// plane (a line for k = 2).
-struct ContactLcp {
-  MatrixXd M;
-  VectorXd q;
-};
-
-ContactLcp randomContactLcp(std::mt19937& rng, int nv, int m, int k) {
-  const double pi = std::acos(-1.0);
-  std::uniform_real_distribution<double> friction(0.1, 1.0);
-  const MatrixXd R = randomMatrix(rng, nv, nv, 1.0 / std::sqrt(nv));
-  const MatrixXd A = R * R.transpose() + 0.1 * MatrixXd::Identity(nv, nv);
-  const MatrixXd Jn = randomMatrix(rng, m, nv);
-  MatrixXd D(m * k, nv), E = MatrixXd::Zero(m * k, m), mu = MatrixXd::Zero(m, m);
-  for (int c = 0; c < m; ++c) {
-    const VectorXd t1 = randomVector(rng, nv), t2 = randomVector(rng, nv);
-    for (int j = 0; j < k; ++j) {
-      D.row(c * k + j) = std::cos(2 * pi * j / k) * t1.transpose() + std::sin(2 * pi * j / k) * t2.transpose();
-      E(c * k + j, c) = 1;
-    }
-    mu(c, c) = friction(rng);
-  }
-  const int n = m * (k + 2);
-  ContactLcp lcp{MatrixXd::Zero(n, n), VectorXd::Zero(n)};
-  lcp.M.block(0, 0, m, m) = Jn * A * Jn.transpose();
-  lcp.M.block(0, m, m, m * k) = Jn * A * D.transpose();
-  lcp.M.block(m, 0, m * k, m) = D * A * Jn.transpose();
-  lcp.M.block(m, m, m * k, m * k) = D * A * D.transpose();
-  lcp.M.block(m, m + m * k, m * k, m) = E;
-  lcp.M.block(m + m * k, 0, m, m) = mu;
-  lcp.M.block(m + m * k, m, m, m * k) = -E.transpose();
-  const VectorXd v = randomVector(rng, nv);
-  lcp.q.head(m) = Jn * v;
-  lcp.q.segment(m, m * k) = D * v;
-  return lcp;
-}
-
-// Siconos Numerics' solver `solver_id` on LCP(q, M): its info (0: solved) and z, w.
-struct SiconosSolution {
-  int info;
-  VectorXd z, w;
-};
-
-SiconosSolution siconosSolve(int solver_id, const MatrixXd& M, const VectorXd& q, int max_iterations = 100000,
-                             double tolerance = 1e-12) {
-  const int n = static_cast<int>(q.size());
-  NumericsMatrix* matrix = NM_create(NM_DENSE, n, n);
-  std::copy(M.data(), M.data() + n * n, matrix->matrix0);  // both column-major
-  VectorXd q_copy = q;
-  LinearComplementarityProblem problem{n, matrix, q_copy.data()};
-  SolverOptions* options = solver_options_create(solver_id);
-  options->iparam[SICONOS_IPARAM_MAX_ITER] = max_iterations;
-  options->dparam[SICONOS_DPARAM_TOL] = tolerance;
-  SiconosSolution s{-1, VectorXd::Zero(n), VectorXd::Zero(n)};
-  if (solver_id == SICONOS_LCP_LEMKE) lcp_lexicolemke(&problem, s.z.data(), s.w.data(), &s.info, options);
-  else if (solver_id == SICONOS_LCP_PGS) lcp_pgs(&problem, s.z.data(), s.w.data(), &s.info, options);
-  solver_options_delete(options);
-  std::free(options);  // solver_options_delete frees the members only
-  NM_free(matrix);
-  return s;
 }
 
 struct Solution {
@@ -604,43 +530,6 @@ TEST(Lcp, NonFiniteInputsAndBadSizes) {
   EXPECT_THROW(solver.solveLemke(MatrixXd::Identity(4, 4), -VectorXd::Ones(4), z4, w4), std::invalid_argument);
   EXPECT_THROW(solver.solvePgs(M, q, z, w, 10, 1e-10, 2.0), std::invalid_argument);
   EXPECT_STREQ(toString(LcpStatus::RayTermination), "ray termination");
-}
-
-TEST(Lemke, TimingOnContactLcps) {
-  // Not a benchmark: a printout of the cost of one solve at the sizes the time-stepper meets.
-  std::mt19937 rng(110);
-  LcpSolver solver(40);
-  struct Shape {
-    int nv, contacts, directions;
-  };
-  for (const Shape shape : {Shape{6, 2, 4}, Shape{12, 3, 4}, Shape{18, 4, 4}, Shape{30, 6, 4}}) {
-    std::vector<ContactLcp> problems;
-    for (int i = 0; i < 50; ++i) problems.push_back(randomContactLcp(rng, shape.nv, shape.contacts, shape.directions));
-    const int n = static_cast<int>(problems[0].q.size());
-    VectorXd z(n), w(n);
-    const int repeats = 40;
-    long pivots = 0;
-    auto start = std::chrono::steady_clock::now();
-    for (int r = 0; r < repeats; ++r)
-      for (const ContactLcp& lcp : problems) {
-        const LcpResult result = solver.solveLemke(lcp.M, lcp.q, z, w);
-        ASSERT_EQ(result.status, LcpStatus::Solved);
-        pivots += result.iterations;
-      }
-    const double saltus_us =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
-        (repeats * problems.size());
-    start = std::chrono::steady_clock::now();
-    for (int r = 0; r < repeats; ++r)
-      for (const ContactLcp& lcp : problems) siconosSolve(SICONOS_LCP_LEMKE, lcp.M, lcp.q);
-    const double siconos_us =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
-        (repeats * problems.size());
-    std::printf("[ timing  ] contact LCP n = %2d (%d contacts, k = %d): Saltus Lemke %6.2f us (%.1f pivots), "
-                "Siconos lexicolemke incl. setup %6.2f us\n",
-                n, shape.contacts, shape.directions, saltus_us, double(pivots) / (repeats * problems.size()),
-                siconos_us);
-  }
 }
 
 }  // namespace
