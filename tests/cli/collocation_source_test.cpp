@@ -1,5 +1,8 @@
-// cli/collocation_source.hpp: an optimised point-mass drop (inelastic, `saltus optimize`) read
-// back as a render::TrajectorySource. In flight the position between the rows is the degree-P
+// cli/collocation_source.hpp: an optimised point-mass drop (inelastic) read back as a
+// render::TrajectorySource. The solution is a saved `saltus optimize` output directory,
+// tests/data/solutions/point_mass_drop_inelastic (see its README): the optimiser itself is tested
+// in tests/collocation and tests/cli/optimize_test.cpp, and a saved solve keeps these tests off
+// Ipopt's round-off (and ~15 s per test under ASan). In flight the position between the rows is the degree-P
 // polynomial through the element's rows (and the parabola z0 − g t²/2 to the solver's
 // tolerance), which the CSV's straight lines between rows are not; the impact is one impulse at the instant of the velocity jump; the
 // forces reproduce the collocation-point reactions of trajectory.csv; and `saltus render DIR`
@@ -18,6 +21,7 @@
 
 #include "cli/collocation_source.hpp"
 #include "render/csv_trajectory.hpp"
+#include "saltus/build_paths.hpp"
 #include "tests/support/run_saltus.hpp"
 
 namespace {
@@ -46,11 +50,10 @@ std::map<std::string, std::vector<double>> readTrajectoryColumns(const fs::path&
 class CollocationSourceTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    // A copy, since `saltus render DIR` writes next to it.
     dir_ = fs::temp_directory_path() / ("saltus_collocation_source_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
-    // Seed 4 solves in ~1.5 s to a feasible inelastic landing.
-    const auto r = runSaltus({"optimize", "point_mass_drop", "--set", "restitution=0", "--seed", "4", "--out", dir_.string()});
-    ASSERT_EQ(r.status, 0) << r.err;
+    fs::copy(fs::path(SALTUS_SOURCE_DIR) / "tests/data/solutions/point_mass_drop_inelastic", dir_);
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static fs::path dir_;
