@@ -54,10 +54,18 @@ inline scene::Scene blockSlide(double incline, double speed, double mu, double g
   b.addLink("world");
   b.addLink("slider");
   b.addLink("block", 1.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
-  dynamics::JointSpec js{"s", dynamics::LinkJointType::Prismatic, "world", "slider"};
+  dynamics::JointSpec js;
+  js.name = "s";
+  js.type = dynamics::LinkJointType::Prismatic;
+  js.parent = "world";
+  js.child = "slider";
   js.axis = Eigen::Vector3d::UnitX();
   b.addJoint(js);
-  dynamics::JointSpec jn{"n", dynamics::LinkJointType::Prismatic, "slider", "block"};
+  dynamics::JointSpec jn;
+  jn.name = "n";
+  jn.type = dynamics::LinkJointType::Prismatic;
+  jn.parent = "slider";
+  jn.child = "block";
   jn.axis = Eigen::Vector3d::UnitZ();
   b.addJoint(jn);
   scene::Scene s;
@@ -80,7 +88,11 @@ inline scene::Scene particle3d(const Eigen::Vector2d& velocity, double mu, int k
   const char* names[3] = {"x", "y", "z"};
   const char* links[4] = {"world", "px", "py", "p"};
   for (int i = 0; i < 3; ++i) {
-    dynamics::JointSpec j{names[i], dynamics::LinkJointType::Prismatic, links[i], links[i + 1]};
+    dynamics::JointSpec j;
+    j.name = names[i];
+    j.type = dynamics::LinkJointType::Prismatic;
+    j.parent = links[i];
+    j.child = links[i + 1];
     j.axis = Eigen::Vector3d::Unit(i);
     b.addJoint(j);
   }

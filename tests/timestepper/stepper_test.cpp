@@ -309,7 +309,9 @@ TEST(Stepper, ElasticBallDoesNotGainEnergy) {
     }
     EXPECT_LE(E_max, E0 * (1 + 1e-12)) << "dt = " << dt;
     // θ = 1 dissipates ½ g² dt² per step in free flight; at dt = 1e-3 that is little.
-    if (dt == 1e-3) EXPECT_GT(sim.energy(), 0.98 * E0);
+    if (dt == 1e-3) {
+      EXPECT_GT(sim.energy(), 0.98 * E0);
+    }
   }
 }
 
