@@ -78,6 +78,8 @@ class BeltStickingMotion {
   // contact with friction, a surface normal in the x–z plane, the point on the surface and at
   // rest at t = 0, and no limit stops.
   explicit BeltStickingMotion(const scene::Scene& scene);
+  BeltStickingMotion(const BeltStickingMotion&) = delete;  // holds references into its own scene
+  BeltStickingMotion& operator=(const BeltStickingMotion&) = delete;
 
   // [q; q̇] at time t (after a belt step at t: q̇⁺).
   Eigen::VectorXd state(double t) const;
@@ -97,7 +99,7 @@ class BeltStickingMotion {
 
   Eigen::Vector3d beltVelocityBefore(double t) const;  // v_belt(t⁻)
 
-  scene::Scene scene_;  // a copy: the motion outlives nothing
+  scene::Scene scene_;  // a copy, so the motion does not depend on the caller's
   const scene::Contact& contact_;
   const scene::Surface& surface_;
   Eigen::Vector3d t1_, p0_;  // belt tangent along the motion; the point's position at t = 0
