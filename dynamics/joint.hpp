@@ -158,6 +158,11 @@ struct AxisSubspace {
   }
   // Sᵀ f.
   SALTUS_INLINE S project(const Force<S>& f) const { return sign * f.n[K]; }
+  // Sᵀ x for a 6-vector x = (angular; linear), and U = A S for a 6 × 6 matrix A.
+  SALTUS_INLINE S project6(const Vec6<S>& x) const { return sign * x[K]; }
+  SALTUS_INLINE void matrixTimes(const Mat6<S>& A, Vec6<S>& U) const {
+    for (int r = 0; r < 6; ++r) U[r] = sign * A(r, K);
+  }
   // I S for a rigid-body inertia (RBDA 2.62): (Ī σe_K; σ e_K × h).
   SALTUS_INLINE Force<S> inertiaTimes(const RigidInertia<S>& I) const {
     constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
@@ -179,6 +184,15 @@ struct GenericSubspace {
   SALTUS_INLINE void addTo(Motion<S>& m, const S& x) const { m += jointVelocity(model, i, x); }
   SALTUS_INLINE Motion<S> crossVelocity(const Motion<S>& m, const S& qd) const { return m.cross(velocity(qd)); }
   SALTUS_INLINE S project(const Force<S>& f) const { return jointForce(model, i, f); }
+  SALTUS_INLINE S project6(const Vec6<S>& x) const {
+    const int o = model.joint_type[i] == JointType::Revolute ? 0 : 3;
+    return model.axis[i][0] * x[o] + model.axis[i][1] * x[o + 1] + model.axis[i][2] * x[o + 2];
+  }
+  SALTUS_INLINE void matrixTimes(const Mat6<S>& A, Vec6<S>& U) const {
+    const int o = model.joint_type[i] == JointType::Revolute ? 0 : 3;
+    const Vec3<S>& s = model.axis[i];
+    for (int r = 0; r < 6; ++r) U[r] = A(r, o) * s[0] + A(r, o + 1) * s[1] + A(r, o + 2) * s[2];
+  }
   SALTUS_INLINE Force<S> inertiaTimes(const RigidInertia<S>& I) const { return I * motionSubspace(model, i); }
 };
 
