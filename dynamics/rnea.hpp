@@ -92,7 +92,7 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
   }
   for (int i = nb - 1; i >= b; --i) {
     const int p = model.parent[i];
-    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) {
       data.tau[i + off] = Si.project(data.f[i]);
       if (p >= 0) data.f[p] += X.applyTranspose(data.f[i]);
     });

@@ -22,6 +22,9 @@ namespace saltus::dynamics {
 // The small spatial operations are forced inline: GCC otherwise leaves some of them as calls
 // inside the recursions, which costs more than the arithmetic.
 #define SALTUS_INLINE inline __attribute__((always_inline))
+// On the per-joint lambdas of the kernels (joint.hpp, withJoint). Not on every one: GCC 12 stops
+// with an internal error (gimple_duplicate_bb) on RNEA in nested AD scalars when both of its
+// lambdas are forced.
 #define SALTUS_LAMBDA_INLINE __attribute__((always_inline))
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
@@ -116,14 +119,18 @@ struct Motion {
   Vec3<S> w;  // angular velocity
   Vec3<S> v;  // linear velocity of the point at the frame origin
 
-  static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  // Component by component (Eigen copies a 3-vector as a 2-wide and a scalar move, which stalls
-  // on values just stored one by one); still an aggregate.
+  Motion() = default;
+  SALTUS_INLINE Motion(const Vec3<S>& w_, const Vec3<S>& v_) { copy3(w, w_), copy3(v, v_); }
+  // Copies component by component: Eigen copies a 3-vector as a 2-wide and a scalar move, which
+  // stalls store forwarding on values just stored one by one.
+  SALTUS_INLINE Motion(const Motion& o) { copy3(w, o.w), copy3(v, o.v); }
   SALTUS_INLINE Motion& operator=(const Motion& o) {
     copy3(w, o.w);
     copy3(v, o.v);
     return *this;
   }
+
+  static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
   SALTUS_INLINE Motion operator+(const Motion& o) const { return {add3(w, o.w), add3(v, o.v)}; }
   SALTUS_INLINE Motion operator-(const Motion& o) const { return {sub3(w, o.w), sub3(v, o.v)}; }
   SALTUS_INLINE Motion& operator+=(const Motion& o) { addTo3(w, o.w); addTo3(v, o.v); return *this; }
@@ -142,12 +149,16 @@ struct Force {
   Vec3<S> n;  // moment about the frame origin
   Vec3<S> f;  // force
 
-  static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  SALTUS_INLINE Force& operator=(const Force& o) {  // see Motion::operator=
+  Force() = default;
+  SALTUS_INLINE Force(const Vec3<S>& n_, const Vec3<S>& f_) { copy3(n, n_), copy3(f, f_); }
+  SALTUS_INLINE Force(const Force& o) { copy3(n, o.n), copy3(f, o.f); }  // see Motion
+  SALTUS_INLINE Force& operator=(const Force& o) {
     copy3(n, o.n);
     copy3(f, o.f);
     return *this;
   }
+
+  static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
   SALTUS_INLINE Force operator+(const Force& o) const { return {add3(n, o.n), add3(f, o.f)}; }
   SALTUS_INLINE Force operator-(const Force& o) const { return {sub3(n, o.n), sub3(f, o.f)}; }
   SALTUS_INLINE Force& operator+=(const Force& o) { addTo3(n, o.n); addTo3(f, o.f); return *this; }
