@@ -67,21 +67,15 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
   const int off = model.nv() - nb;                                // its coordinate k = i + off
-  // Joint transforms (jcalc); I^c_i starts as I_i.
-  if (b) {
-    updateJointTransform(model, data, 0, q);
-    data.Ic[0] = model.inertia[0];
-  }
-  for (int i = b; i < nb; ++i) {
-    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
-    data.Ic[i] = model.inertia[i];
-  }
+  // I^c_i starts as I_i.
+  for (int i = 0; i < nb; ++i) data.Ic[i] = model.inertia[i];
+  if (b) updateJointTransform(model, data, 0, q);
   MatX<S>& M = data.M;
   Force<S>* F = data.F_column.data();
-  // Leaves to root.
+  // Leaves to root, each joint evaluated (jcalc) on the way.
   for (int i = nb - 1; i >= b; --i) {
     const int p = model.parent[i], k = i + off, end = model.subtree_end[i];
-    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    withJoint(model, data.X_up[i], i, q[k], [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
       F[i] = Si.inertiaTimes(data.Ic[i]);  // F = I^c_i S_i (RBDA 6.19)
       M(k, k) = Si.project(F[i]);
       for (int j = i + 1; j < end; ++j) M(k, j + off) = M(j + off, k) = Si.project(F[j]);  // RBDA 6.20
@@ -99,9 +93,20 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
       multiJointProject(model, 0, S0, F[j], column);
       for (int c = 0; c < nc; ++c) M(j + off, c) = M(c, j + off) = column[c];
     }
-    for (int c = 0; c < nc; ++c) {
-      const Force<S> Fc = data.Ic[0] * S0[c];
-      for (int r = c; r < nc; ++r) M(r, c) = M(c, r) = dot(S0[r], Fc);
+    const RigidInertia<S>& I0 = data.Ic[0];
+    if (model.joint_type[0] == JointType::Free) {
+      // Translation columns s_c = (0; t_c), rotation columns s_c = (w_c; 0) (joint.hpp):
+      // I s = (h × t; m t) and (Ī w; −h × w), and each product with a column is a 3-vector dot.
+      Force<S> F0[6];
+      for (int c = 0; c < 3; ++c) F0[c] = {cross3(I0.h, S0[c].v), scale3(S0[c].v, I0.m)};
+      for (int c = 3; c < 6; ++c) F0[c] = {mulSym3(I0.I, S0[c].w), cross3(S0[c].w, I0.h)};
+      for (int c = 0; c < 6; ++c)
+        for (int r = c; r < 6; ++r) M(r, c) = M(c, r) = r < 3 ? dot3(S0[r].v, F0[c].f) : dot3(S0[r].w, F0[c].n);
+    } else {
+      for (int c = 0; c < nc; ++c) {
+        const Force<S> Fc = I0 * S0[c];
+        for (int r = c; r < nc; ++r) M(r, c) = M(c, r) = dot(S0[r], Fc);
+      }
     }
   }
   return M;
