@@ -233,9 +233,13 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
   // Pass 1: velocities, velocity-product accelerations c_i = c_J + v_i × v_J, bias forces p_i
   // (RBDA 7.1, 7.2).
   if (b) detail::abaMultiJointOutwardVelocity(model, data, q, v);
+  // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
+  // registers of the loop below).
+  for (int i = b; i < nb; ++i)
+    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
-    withJoint(model, data.X_up[i], i, q[k], [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
       Motion<S> vi;
       if (p < 0) {
         vi = Si.velocity(v[k]);

@@ -67,15 +67,18 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
   const int off = model.nv() - nb;                                // its coordinate k = i + off
-  // I^c_i starts as I_i.
-  for (int i = 0; i < nb; ++i) data.Ic[i] = model.inertia[i];
+  // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
+  // registers of the loop below); I^c_i starts as I_i.
   if (b) updateJointTransform(model, data, 0, q);
+  for (int i = b; i < nb; ++i)
+    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
+  for (int i = 0; i < nb; ++i) data.Ic[i] = model.inertia[i];
   MatX<S>& M = data.M;
   Force<S>* F = data.F_column.data();
-  // Leaves to root, each joint evaluated (jcalc) on the way.
+  // Leaves to root.
   for (int i = nb - 1; i >= b; --i) {
     const int p = model.parent[i], k = i + off, end = model.subtree_end[i];
-    withJoint(model, data.X_up[i], i, q[k], [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
       F[i] = Si.inertiaTimes(data.Ic[i]);  // F = I^c_i S_i (RBDA 6.19)
       M(k, k) = Si.project(F[i]);
       for (int j = i + 1; j < end; ++j) M(k, j + off) = M(j + off, k) = Si.project(F[j]);  // RBDA 6.20

@@ -28,12 +28,13 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
   else
     data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
 }
-// The same for a one-coordinate joint, with its transform and motion subspace in the forms of its
-// kernel (withJoint). q, qd, qdd are the joint's coordinate; qdd == nullptr means q̈_i = 0.
+// The same for a one-coordinate joint whose ^iX_λ is in data.X_up (withJoint), with its
+// transform and motion subspace in the forms of its kernel. qd, qdd are the joint's coordinate;
+// qdd == nullptr means q̈_i = 0.
 template <class S>
-SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S& q, const S& qd,
+SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S& qd,
                                    const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
-  withJoint(model, data.X_up[i], i, q, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+  withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
     Motion<S> vi, ai = X.apply(a_parent);
     if (v_parent) {
       vi = X.apply(*v_parent);
@@ -85,9 +86,13 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
   if (b) rneaMultiForwardStep<S>(model, data, 0, q.data(), v.data(), a ? a->data() : nullptr, nullptr, a0);
   const int off = model.nv() - nb;  // coordinate k = i + off of body i ≥ b
+  // Joint transforms (jcalc) in a loop of their own: its libm calls would otherwise spill the
+  // registers of the loop below.
+  for (int i = b; i < nb; ++i)
+    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
-    rneaForwardStep(model, data, i, q[k], v[k], a ? a->data() + k : nullptr, p < 0 ? nullptr : &data.v[p],
+    rneaForwardStep(model, data, i, v[k], a ? a->data() + k : nullptr, p < 0 ? nullptr : &data.v[p],
                     p < 0 ? a0 : data.a_gf[p]);
   }
   for (int i = nb - 1; i >= b; --i) {
