@@ -85,7 +85,7 @@ struct Model {
   std::vector<JointType> joint_type;
   std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame (zero for Planar, Free)
   std::vector<int> axis_kind;              // 0, 1, 2: axis is +x, +y, +z (fast paths); −1: general
-  // How the kernels' loops evaluate body i's joint (classifyJoints; joint.hpp, withJoint):
+  // How the kernels' loops evaluate body i's joint (prepareKernels; joint.hpp, withJoint):
   // kAxisJoint + K: revolute about σ e_K with no rotation in X_T, so ^iX_λ = rot(R_K(σq)ᵀ) xlt(r_T)
   // acts on a vector as a cross product and a plane rotation; kRotatedAxisJoint + K: revolute
   // about σ e_K after a general X_T rotation; kGenericJoint: any other one-coordinate joint;

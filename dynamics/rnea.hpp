@@ -7,8 +7,9 @@
 
 namespace saltus::dynamics {
 
-// The outward step of RNEA for body i, given its parent's velocity v_λ and acceleration a_λ
-// (offset by −g): fills X_up[i], v[i], a_gf[i] and the body force f[i] (RBDA 5.7–5.9):
+// The outward step of RNEA for body i, given ^iX_λ in data.X_up, its joint's v_J, the acceleration
+// terms a_i so far and its parent's velocity v_λ: fills v[i], a_gf[i] (a_i offset by −g) and the
+// body force f[i] (RBDA 5.7–5.9):
 //   v_i = ^iX_λ v_λ + S_i q̇_i,  a_i = ^iX_λ a_λ + S_i q̈_i + c_J + v_i × S_i q̇_i,
 //   f_i = I_i a_i + v_i ×* I_i v_i.
 // v_parent == nullptr means the parent is the fixed world.
@@ -29,8 +30,8 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
     data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
 }
 // The same for a one-coordinate joint whose ^iX_λ is in data.X_up (withJoint), with its
-// transform and motion subspace in the forms of its kernel. qd, qdd are the joint's coordinate;
-// qdd == nullptr means q̈_i = 0.
+// transform and motion subspace in the forms of its kernel, given the parent's acceleration
+// a_λ. qd, qdd are the joint's coordinate; qdd == nullptr means q̈_i = 0.
 template <class S>
 SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S& qd,
                                    const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
