@@ -8,41 +8,76 @@
 namespace saltus::dynamics {
 
 namespace detail {
-// Eᵀ S E for a symmetric 3×3 S: one triangle computed, mirrored.
-template <class S, class Block>
-SALTUS_INLINE Mat3<S> symmetricSandwich(const Mat3<S>& E, const Block& Sym) {
-  Mat3<S> SE, out;
-  for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) SE(k, c) = Sym(k, 0) * E(0, c) + Sym(k, 1) * E(1, c) + Sym(k, 2) * E(2, c);
-  for (int c = 0; c < 3; ++c)
-    for (int k = c; k < 3; ++k) out(k, c) = out(c, k) = E(0, k) * SE(0, c) + E(1, k) * SE(1, c) + E(2, k) * SE(2, c);
-  return out;
+// IA_λ += ^iX_λᵀ Ia ^iX_λ for a symmetric 6×6 articulated inertia in (angular; linear) blocks
+// [A B; Bᵀ C] (RBDA 7.43 and Table 2.5), for the transform forms of withJoint. With
+// X = rot(E) xlt(r) and xlt(r) = [1 0; −r× 1] (RBDA 2.8): rotate each block (M ← Eᵀ M E, as the
+// rotation of the columns, then of the rows, of M), then shift by r:
+//   C' = C,  B' = B + r× C,  A' = A + r× Bᵀ − B' r×.
+// Entry by entry: the products with r× are taken as cross products, and the sums go straight
+// into IA_λ (only the lower triangle of the symmetric A' is formed).
+template <class S, class XForm>
+SALTUS_INLINE void addArticulatedInertiaToParent(const XForm& X, const Mat6<S>& Ia, Mat6<S>& IA_parent) {
+  Mat3<S> A, B, C;  // rotated blocks
+  auto rotateBlock = [&X](const Mat6<S>& M, int r0, int c0, Mat3<S>& out) SALTUS_LAMBDA_INLINE {
+    Vec3<S> EtM[3];  // rows of Eᵀ M
+    for (int c = 0; c < 3; ++c) {
+      const Vec3<S> col = X.rotateInverse(Vec3<S>(M(r0, c0 + c), M(r0 + 1, c0 + c), M(r0 + 2, c0 + c)));
+      EtM[0][c] = col[0], EtM[1][c] = col[1], EtM[2][c] = col[2];
+    }
+    for (int r = 0; r < 3; ++r) {  // row r of Eᵀ M E = (Eᵀ (row r of Eᵀ M)ᵀ)ᵀ
+      const Vec3<S> row = X.rotateInverse(EtM[r]);
+      out(r, 0) = row[0], out(r, 1) = row[1], out(r, 2) = row[2];
+    }
+  };
+  rotateBlock(Ia, 0, 0, A);
+  rotateBlock(Ia, 0, 3, B);
+  rotateBlock(Ia, 3, 3, C);
+  const Vec3<S>& r = X.r;
+  Mat3<S> Bn;  // B' = B + r× C, column by column
+  for (int j = 0; j < 3; ++j) {
+    const Vec3<S> x = cross3(r, Vec3<S>(C(0, j), C(1, j), C(2, j)));
+    for (int i = 0; i < 3; ++i) Bn(i, j) = B(i, j) + x[i];
+  }
+  Mat3<S> rxBt, Bnrx;  // r× Bᵀ: column j is r × (row j of B); B' r×: row i is −(r × row i of B')ᵀ
+  for (int j = 0; j < 3; ++j) {
+    const Vec3<S> x = cross3(r, Vec3<S>(B(j, 0), B(j, 1), B(j, 2)));
+    const Vec3<S> y = cross3(r, Vec3<S>(Bn(j, 0), Bn(j, 1), Bn(j, 2)));
+    for (int i = 0; i < 3; ++i) rxBt(i, j) = x[i], Bnrx(j, i) = -y[i];
+  }
+  for (int c = 0; c < 3; ++c) {
+    for (int k = c; k < 3; ++k) {
+      const S a = A(k, c) + rxBt(k, c) - Bnrx(k, c);
+      const S cc = C(k, c);
+      IA_parent(k, c) += a;
+      IA_parent(k + 3, c + 3) += cc;
+      if (k != c) {
+        IA_parent(c, k) += a;
+        IA_parent(c + 3, k + 3) += cc;
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      IA_parent(k, c + 3) += Bn(k, c);
+      IA_parent(c + 3, k) += Bn(k, c);
+    }
+  }
 }
 
-// Xᵀ IA X for a symmetric 6×6 articulated inertia in (angular; linear) blocks [A B; Bᵀ C] and
-// X = rot(E) xlt(r), xlt(r) = [1 0; −r× 1] (RBDA 2.8): rotate each block, then shift by r:
-//   C' = C,  B' = B + r× C,  A' = A + r× Bᵀ − B' r×   (A', C' symmetric).
-// The products with r× are taken as cross products.
+// The 6 × 6 matrix of a rigid-body inertia (RBDA 2.62), entry by entry.
 template <class S>
-Mat6<S> transformArticulatedInertia(const Mat6<S>& IA, const Transform<S>& X) {
-  const Mat3<S>& E = X.E;
-  const Vec3<S>& r = X.r;
-  const Mat3<S> A = symmetricSandwich(E, IA.template topLeftCorner<3, 3>());
-  const Mat3<S> C = symmetricSandwich(E, IA.template bottomRightCorner<3, 3>());
-  const Mat3<S> B = E.transpose() * IA.template topRightCorner<3, 3>() * E;
-  Mat3<S> Bn;  // B + r× C, column by column
-  for (int j = 0; j < 3; ++j) Bn.col(j) = B.col(j) + r.cross(Vec3<S>(C.col(j)));
-  Mat6<S> out;
-  // r× Bᵀ: column j is r × (row j of B); B' r×: row i is −(r × row i of B')ᵀ.
-  Mat3<S> rxBt, Bnrx;
-  for (int j = 0; j < 3; ++j) rxBt.col(j) = r.cross(Vec3<S>(B.row(j).transpose()));
-  for (int i = 0; i < 3; ++i) Bnrx.row(i) = -r.cross(Vec3<S>(Bn.row(i).transpose())).transpose();
+SALTUS_INLINE void setInertiaMatrix(const RigidInertia<S>& I, Mat6<S>& M) {
+  const S zero(0);
   for (int c = 0; c < 3; ++c)
-    for (int k = c; k < 3; ++k) out(k, c) = out(c, k) = A(k, c) + rxBt(k, c) - Bnrx(k, c);
-  out.template topRightCorner<3, 3>() = Bn;
-  out.template bottomLeftCorner<3, 3>() = Bn.transpose();
-  out.template bottomRightCorner<3, 3>() = C;
-  return out;
+    for (int k = 0; k < 3; ++k) {
+      M(k, c) = I.I(k, c);
+      M(k + 3, c + 3) = k == c ? I.m : zero;
+    }
+  // [Ī h×; h×ᵀ m1]: h× = [0 −h_z h_y; h_z 0 −h_x; −h_y h_x 0].
+  const Vec3<S>& h = I.h;
+  M(0, 3) = zero, M(0, 4) = -h[2], M(0, 5) = h[1];
+  M(1, 3) = h[2], M(1, 4) = zero, M(1, 5) = -h[0];
+  M(2, 3) = -h[1], M(2, 4) = h[0], M(2, 5) = zero;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) M(c + 3, k) = M(k, c + 3);
 }
 
 template <class S>
@@ -116,7 +151,7 @@ template <class S>
       Wy += W.col(c) * y[c];
     }
     const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + Wy;
-    data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
+    detail::addArticulatedInertiaToParent(GeneralTransform<S>{data.X_up[i]}, Ia, data.IA[p]);
     data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
   }
 }
@@ -186,7 +221,9 @@ template <class S>
 // Fills data.qdd (and X_up, v, c, IA, pA, U, D, u; D_chol for multi-coordinate joints; for a
 // free joint from the world D_chol holds the Cholesky factor of I^A and U, D, u are not set).
 // A multi-coordinate joint can only be body 0's (model.hpp): it is handled before (passes 1, 3)
-// or after (pass 2) the loops over the one-coordinate joints, out of line.
+// or after (pass 2) the loops over the one-coordinate joints, out of line. In the loops each
+// joint is taken in the forms of its kernel (withJoint): for an axis joint U = IA S is a column
+// of IA, D = Sᵀ U a component, and ^iX_λ a plane rotation and a cross product.
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
@@ -196,53 +233,80 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
   // Pass 1: velocities, velocity-product accelerations c_i = c_J + v_i × v_J, bias forces p_i
   // (RBDA 7.1, 7.2).
   if (b) detail::abaMultiJointOutwardVelocity(model, data, q, v);
+  // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
+  // registers of the loop below).
+  for (int i = b; i < nb; ++i)
+    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
-    data.X_up[i] = jointTransformUp(model, i, q[k]);
-    const Motion<S> vJ = jointVelocity(model, i, v[k]);
-    if (p < 0) {
-      data.v[i] = vJ;
-      data.c[i] = Motion<S>::Zero();
-    } else {
-      data.v[i] = data.X_up[i].apply(data.v[p]) + vJ;
-      data.c[i] = data.v[i].cross(vJ);
-    }
-    const RigidInertia<S>& I = model.inertia[i];
-    data.IA[i] = I.matrix();
-    data.pA[i] = data.v[i].crossForce(I * data.v[i]);
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+      Motion<S> vi;
+      if (p < 0) {
+        vi = Si.velocity(v[k]);
+        data.c[i] = Motion<S>{Vec3<S>(S(0), S(0), S(0)), Vec3<S>(S(0), S(0), S(0))};
+      } else {
+        vi = X.apply(data.v[p]);
+        Si.addTo(vi, v[k]);
+        data.c[i] = Si.crossVelocity(vi, v[k]);  // v_i × S_i q̇_i
+      }
+      data.v[i] = vi;
+      const RigidInertia<S>& I = model.inertia[i];
+      detail::setInertiaMatrix(I, data.IA[i]);
+      data.pA[i] = vi.crossForce(I * vi);
+    });
   }
-  // Pass 2: articulated inertias and bias forces, leaves to root.
+  // Pass 2: articulated inertias and bias forces, leaves to root (RBDA 7.43–7.45).
   for (int i = nb - 1; i >= b; --i) {
-    const Mat6<S>& IA = data.IA[i];
     const int p = model.parent[i], k = i + off;
-    Vec6<S>& U = data.U[k];
-    const Vec3<S>& ax = model.axis[i];
-    U = model.joint_type[i] == JointType::Revolute ? Vec6<S>(IA.template leftCols<3>() * ax)
-                                                   : Vec6<S>(IA.template rightCols<3>() * ax);  // U = IA S
-    const Vec3<S> Utop = model.joint_type[i] == JointType::Revolute ? Vec3<S>(U.template head<3>())
-                                                                      : Vec3<S>(U.template tail<3>());
-    data.D[k] = ax.dot(Utop);                                  // D = Sᵀ U
-    data.u[k] = tau[k] - jointForce(model, i, data.pA[i]);     // u = τ − Sᵀ p^A
-    if (p >= 0) {
-      const Mat6<S> Ia = IA - U * (U.transpose() / data.D[k]);  // RBDA 7.43
-      const Vec6<S> pa = data.pA[i].vector() + detail::times(Ia, data.c[i]) + U * (data.u[k] / data.D[k]);
-      data.IA[p] += detail::transformArticulatedInertia(Ia, data.X_up[i]);
-      data.pA[p] += data.X_up[i].applyTranspose(Force<S>::FromVector(pa));
-    }
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+      const Mat6<S>& IA = data.IA[i];
+      Vec6<S>& U = data.U[k];
+      Si.matrixTimes(IA, U);                             // U = IA S
+      const S D = Si.project6(U);                        // D = Sᵀ U
+      const S u = tau[k] - Si.project(data.pA[i]);       // u = τ − Sᵀ p^A
+      data.D[k] = D;
+      data.u[k] = u;
+      if (p < 0) return;
+      // Ia = IA − U D⁻¹ Uᵀ,  pa = p^A + Ia c + U D⁻¹ u.
+      const S Dinv = S(1) / D;
+      S UD[6];
+      for (int r = 0; r < 6; ++r) UD[r] = U[r] * Dinv;
+      Mat6<S> Ia;
+      for (int c = 0; c < 6; ++c)
+        for (int r = c; r < 6; ++r) Ia(r, c) = Ia(c, r) = IA(r, c) - UD[r] * U[c];
+      const Motion<S>& ci = data.c[i];
+      const S cv[6] = {ci.w[0], ci.w[1], ci.w[2], ci.v[0], ci.v[1], ci.v[2]};
+      S pa[6];
+      const Force<S>& pA = data.pA[i];
+      const S pAv[6] = {pA.n[0], pA.n[1], pA.n[2], pA.f[0], pA.f[1], pA.f[2]};
+      for (int r = 0; r < 6; ++r) {
+        S x = pAv[r] + UD[r] * u;
+        for (int c = 0; c < 6; ++c) x += Ia(r, c) * cv[c];
+        pa[r] = x;
+      }
+      detail::addArticulatedInertiaToParent(X, Ia, data.IA[p]);
+      data.pA[p] += X.applyTranspose(Force<S>{Vec3<S>(pa[0], pa[1], pa[2]), Vec3<S>(pa[3], pa[4], pa[5])});
+    });
   }
   const bool free_root = b && model.joint_type[0] == JointType::Free;
   if (b && !free_root) detail::abaMultiJointInward(model, data, 0, tau);  // a free root: pass 3 only
   // Pass 3: accelerations, root to leaves (RBDA 7.46, 7.47).
-  const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};
+  const Motion<S> a0{Vec3<S>(S(0), S(0), S(0)), Vec3<S>(S(-model.gravity[0]), S(-model.gravity[1]), S(-model.gravity[2]))};
   if (b) {
     const Motion<S> ap = data.X_up[0].apply(a0) + data.c[0];
     data.a_gf[0] = free_root ? detail::abaFreeRoot(model, data, 0, tau, ap) : detail::abaMultiJointOutward(model, data, 0, ap);
   }
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
-    const Motion<S> ap = data.X_up[i].apply(p < 0 ? a0 : data.a_gf[p]) + data.c[i];
-    data.qdd[k] = (data.u[k] - data.U[k].dot(ap.vector())) / data.D[k];
-    data.a_gf[i] = ap + jointVelocity(model, i, data.qdd[k]);
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+      Motion<S> ap = X.apply(p < 0 ? a0 : data.a_gf[p]) + data.c[i];  // a' = ^iX_λ a_λ + c_i
+      const Vec6<S>& U = data.U[k];
+      const S Ua = U[0] * ap.w[0] + U[1] * ap.w[1] + U[2] * ap.w[2] + U[3] * ap.v[0] + U[4] * ap.v[1] + U[5] * ap.v[2];
+      const S qdd = (data.u[k] - Ua) / data.D[k];
+      data.qdd[k] = qdd;
+      Si.addTo(ap, qdd);
+      data.a_gf[i] = ap;
+    });
   }
   return data.qdd;
 }

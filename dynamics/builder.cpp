@@ -284,6 +284,7 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     }
   }
   model.numberCoordinates();
+  prepareKernels(model);
   const int n = model.nv();
   for (int b = 0; b < n; ++b)
     for (int c = b + 1; c < n; ++c)

@@ -32,8 +32,8 @@ struct Data {
   VecX<S> tau;                  // RNEA result
 
   // Composite rigid bodies (CRBA, RBDA Table 6.2).
-  std::vector<RigidInertia<S>> Ic;  // composite inertias, world coordinates
-  std::vector<Motion<S>> S_world;   // motion subspace columns (per coordinate), world coordinates
+  std::vector<RigidInertia<S>> Ic;  // composite inertias, body coordinates
+  std::vector<Force<S>> F_column;   // per one-coordinate body i: I^c_i S_i carried up towards the root
   MatX<S> M;  // joint-space inertia matrix, both triangles filled
 
   // Articulated bodies (ABA, RBDA Table 7.1).
@@ -70,7 +70,7 @@ Data<S>::Data(const Model<S>& model) {
   f.assign(nb, fnan);
   tau = VecX<S>::Constant(n, nan);
   Ic.assign(nb, RigidInertia<S>{nan, nan3, Mat3<S>::Constant(nan)});
-  S_world.assign(n, mnan);
+  F_column.assign(nb, fnan);
   M = MatX<S>::Constant(n, n, nan);
   for (int i = 0; i < n; ++i)  // structural zeros of M: neither coordinate's body supports the other's
     for (int j = 0; j < n; ++j) {

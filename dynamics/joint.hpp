@@ -63,6 +63,209 @@ SALTUS_INLINE S jointForce(const Model<S>& model, int i, const Force<S>& f) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Revolute joints about a coordinate axis ±e_K (Model::joint_kernel), in the forms the kernels'
+// loops use. With c = cos q, s = σ sin q, the joint rotation is E_J = R_K(σq)ᵀ (RBDA Table 2.2,
+// rx/ry/rz), which acts on a 3-vector with four multiplications:
+//   (E_J x)_K = x_K,  (E_J x)_{K+1} = c x_{K+1} + s x_{K+2},  (E_J x)_{K+2} = c x_{K+2} − s x_{K+1}
+// (indices mod 3), and E_Jᵀ with s → −s.
+
+template <int K, class S>
+SALTUS_INLINE Vec3<S> rotateAboutAxis(const S& c, const S& s, const Vec3<S>& x) {  // E_J x
+  constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+  Vec3<S> y;
+  y[K] = x[K];
+  y[i1] = c * x[i1] + s * x[i2];
+  y[i2] = c * x[i2] - s * x[i1];
+  return y;
+}
+template <int K, class S>
+SALTUS_INLINE Vec3<S> rotateAboutAxisInverse(const S& c, const S& s, const Vec3<S>& x) {  // E_Jᵀ x
+  constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+  Vec3<S> y;
+  y[K] = x[K];
+  y[i1] = c * x[i1] - s * x[i2];
+  y[i2] = c * x[i2] + s * x[i1];
+  return y;
+}
+
+// ^iX_λ = rot(E_J) xlt(r_T) of an axis joint whose X_T has no rotation (RBDA 4.32 with E_T = 1).
+template <class S, int K>
+struct AxisTransform {
+  S c, s;     // cos q, σ sin q
+  Vec3<S> r;  // r_T: joint origin in parent coordinates
+
+  // From the general form (E, r) of the same transform (data.X_up of an axis joint).
+  static SALTUS_INLINE AxisTransform FromTransform(const Transform<S>& X) {
+    return {X.E((K + 1) % 3, (K + 1) % 3), X.E((K + 1) % 3, (K + 2) % 3), X.r};
+  }
+  // Writes the general form (E, r) into X.
+  SALTUS_INLINE void store(Transform<S>& X) const {
+    constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+    X.E(K, K) = S(1);
+    X.E(K, i1) = X.E(K, i2) = X.E(i1, K) = X.E(i2, K) = S(0);
+    X.E(i1, i1) = X.E(i2, i2) = c;
+    X.E(i1, i2) = s;
+    X.E(i2, i1) = -s;
+    X.r[0] = r[0], X.r[1] = r[1], X.r[2] = r[2];
+  }
+  SALTUS_INLINE Vec3<S> rotate(const Vec3<S>& x) const { return rotateAboutAxis<K>(c, s, x); }
+  SALTUS_INLINE Vec3<S> rotateInverse(const Vec3<S>& x) const { return rotateAboutAxisInverse<K>(c, s, x); }
+  SALTUS_INLINE Motion<S> apply(const Motion<S>& m) const {  // X m
+    return {rotate(m.w), rotate(sub3(m.v, cross3(r, m.w)))};
+  }
+  SALTUS_INLINE Force<S> applyTranspose(const Force<S>& f) const {  // Xᵀ f
+    const Vec3<S> ff = rotateInverse(f.f);
+    return {add3(rotateInverse(f.n), cross3(r, ff)), ff};
+  }
+};
+
+// The general transform plays the same role for the other joints (same interface).
+template <class S>
+struct GeneralTransform {
+  const Transform<S>& X;
+  const Vec3<S>& r = X.r;
+  SALTUS_INLINE const Transform<S>& transform() const { return X; }
+  SALTUS_INLINE Vec3<S> rotate(const Vec3<S>& x) const { return mul3(X.E, x); }
+  SALTUS_INLINE Vec3<S> rotateInverse(const Vec3<S>& x) const { return mulT3(X.E, x); }
+  SALTUS_INLINE Motion<S> apply(const Motion<S>& m) const { return X.apply(m); }
+  SALTUS_INLINE Force<S> applyTranspose(const Force<S>& f) const { return X.applyTranspose(f); }
+};
+
+// Motion subspace S_i = (σ e_K; 0) of an axis joint (RBDA Table 4.1).
+template <class S, int K>
+struct AxisSubspace {
+  static constexpr int axis = K;
+  S sign;  // σ
+  // S q̇ as a motion.
+  SALTUS_INLINE Motion<S> velocity(const S& qd) const {
+    const S x = sign * qd;
+    return {Vec3<S>(K == 0 ? x : S(0), K == 1 ? x : S(0), K == 2 ? x : S(0)), Vec3<S>(S(0), S(0), S(0))};
+  }
+  // m += S x.
+  SALTUS_INLINE void addTo(Motion<S>& m, const S& x) const { m.w[K] += sign * x; }
+  // m × (S q̇) (RBDA 2.31), with x × e_K = (x_{K+2}, −x_{K+1}) in components (K+1, K+2).
+  SALTUS_INLINE Motion<S> crossVelocity(const Motion<S>& m, const S& qd) const {
+    constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+    const S w = sign * qd;
+    Motion<S> out;
+    out.w[K] = S(0);
+    out.w[i1] = m.w[i2] * w;
+    out.w[i2] = -(m.w[i1] * w);
+    out.v[K] = S(0);
+    out.v[i1] = m.v[i2] * w;
+    out.v[i2] = -(m.v[i1] * w);
+    return out;
+  }
+  // Sᵀ f.
+  SALTUS_INLINE S project(const Force<S>& f) const { return sign * f.n[K]; }
+  // Sᵀ x for a 6-vector x = (angular; linear), and U = A S for a 6 × 6 matrix A.
+  SALTUS_INLINE S project6(const Vec6<S>& x) const { return sign * x[K]; }
+  SALTUS_INLINE void matrixTimes(const Mat6<S>& A, Vec6<S>& U) const {
+    for (int r = 0; r < 6; ++r) U[r] = sign * A(r, K);
+  }
+  // I S for a rigid-body inertia (RBDA 2.62): (Ī σe_K; σ e_K × h).
+  SALTUS_INLINE Force<S> inertiaTimes(const RigidInertia<S>& I) const {
+    constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+    Force<S> F;
+    F.n = Vec3<S>(S(I.I(0, K) * sign), S(I.I(1, K) * sign), S(I.I(2, K) * sign));
+    F.f[K] = S(0);
+    F.f[i1] = -(I.h[i2] * sign);
+    F.f[i2] = I.h[i1] * sign;
+    return F;
+  }
+};
+
+// S_i of any one-coordinate joint (same interface).
+template <class S>
+struct GenericSubspace {
+  const Model<S>& model;
+  int i;
+  SALTUS_INLINE Motion<S> velocity(const S& qd) const { return jointVelocity(model, i, qd); }
+  SALTUS_INLINE void addTo(Motion<S>& m, const S& x) const { m += jointVelocity(model, i, x); }
+  SALTUS_INLINE Motion<S> crossVelocity(const Motion<S>& m, const S& qd) const { return m.cross(velocity(qd)); }
+  SALTUS_INLINE S project(const Force<S>& f) const { return jointForce(model, i, f); }
+  SALTUS_INLINE S project6(const Vec6<S>& x) const {
+    const int o = model.joint_type[i] == JointType::Revolute ? 0 : 3;
+    return model.axis[i][0] * x[o] + model.axis[i][1] * x[o + 1] + model.axis[i][2] * x[o + 2];
+  }
+  SALTUS_INLINE void matrixTimes(const Mat6<S>& A, Vec6<S>& U) const {
+    const int o = model.joint_type[i] == JointType::Revolute ? 0 : 3;
+    const Vec3<S>& s = model.axis[i];
+    for (int r = 0; r < 6; ++r) U[r] = A(r, o) * s[0] + A(r, o + 1) * s[1] + A(r, o + 2) * s[2];
+  }
+  SALTUS_INLINE Force<S> inertiaTimes(const RigidInertia<S>& I) const { return I * motionSubspace(model, i); }
+};
+
+// E_J E_T for a revolute joint about σ e_K after the X_T rotation E_T: E_J mixes rows K+1, K+2.
+template <class S, int K>
+SALTUS_INLINE void storeRotatedAxisTransform(const Transform<S>& XT, const S& c, const S& s, Transform<S>& X) {
+  constexpr int i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+  for (int j = 0; j < 3; ++j) {
+    X.E(K, j) = XT.E(K, j);
+    X.E(i1, j) = c * XT.E(i1, j) + s * XT.E(i2, j);
+    X.E(i2, j) = c * XT.E(i2, j) - s * XT.E(i1, j);
+    X.r[j] = XT.r[j];
+  }
+}
+
+// Evaluates body i's one-coordinate joint at q (jcalc, RBDA 4.4), stores ^iX_λ in data X_up[i]
+// and calls fn(X, Si) with the transform and the motion subspace in the forms of its
+// Model::joint_kernel. The switch on the kernel is taken once per body; fn is instantiated for
+// each form.
+template <class S, class Fn>
+SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, const S& q, Fn&& fn) {
+  using std::cos;
+  using std::sin;
+  const int kernel = model.joint_kernel[i];
+  if (kernel < kGenericJoint) {
+    S c, s;
+    sinCos(q, s, c);
+    s *= model.axis_sign[i];
+    const S& sign = model.axis_sign[i];
+    switch (kernel) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kAxisJoint + K: {                                                               \
+    const AxisTransform<S, K> X{c, s, model.X_tree[i].r};                              \
+    X.store(X_up);                                                                     \
+    fn(X, AxisSubspace<S, K>{sign});                                                   \
+    return;                                                                            \
+  }                                                                                    \
+  case kRotatedAxisJoint + K: {                                                        \
+    storeRotatedAxisTransform<S, K>(model.X_tree[i], c, s, X_up);                      \
+    fn(GeneralTransform<S>{X_up}, AxisSubspace<S, K>{sign});                           \
+    return;                                                                            \
+  }
+      SALTUS_AXIS_CASE(0)
+      SALTUS_AXIS_CASE(1)
+      SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+    }
+  }
+  X_up = jointTransformUp(model, i, q);
+  fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
+}
+
+// The same for a joint already evaluated: the forms are read back from X_up (^iX_λ).
+template <class S, class Fn>
+SALTUS_INLINE void withEvaluatedJoint(const Model<S>& model, const Transform<S>& X_up, int i, Fn&& fn) {
+  const S& sign = model.axis_sign[i];
+  switch (model.joint_kernel[i]) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kAxisJoint + K:                                                                 \
+    fn(AxisTransform<S, K>::FromTransform(X_up), AxisSubspace<S, K>{sign});            \
+    return;                                                                            \
+  case kRotatedAxisJoint + K:                                                          \
+    fn(GeneralTransform<S>{X_up}, AxisSubspace<S, K>{sign});                           \
+    return;
+    SALTUS_AXIS_CASE(0)
+    SALTUS_AXIS_CASE(1)
+    SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+  }
+  fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
+}
+
+// ---------------------------------------------------------------------------------------------
 // Multi-coordinate joints: the floating bases (model.hpp, BaseType), with v = q̇, so the motion
 // subspace S_i(q) (6 × n_i, body coordinates) depends on the configuration (RBDA 4.4: v_J = S q̇,
 // c_J = Ṡ q̇ with the derivative taken component-wise in body coordinates, eq. 4.40/4.41).
@@ -81,67 +284,81 @@ SALTUS_INLINE S jointForce(const Model<S>& model, int i, const Force<S>& f) {
 // to Scol[0 .. n_i). q points at the joint's first coordinate.
 template <class S>
 [[gnu::noinline]] Transform<S> multiJointTransformUp(const Model<S>& model, int i, const S* q, Motion<S>* Scol) {
-  using std::cos;
-  using std::sin;
-  const Vec3<S> zero = Vec3<S>::Zero();
+  const S zero(0), one(1);
   Transform<S> XJ;
   if (model.joint_type[i] == JointType::Free) {
-    const S cy = cos(q[3]), sy = sin(q[3]), cp = cos(q[4]), sp = sin(q[4]), cr = cos(q[5]), sr = sin(q[5]);
+    S cy, sy, cp, sp, cr, sr;
+    sinCos(q[3], sy, cy);
+    sinCos(q[4], sp, cp);
+    sinCos(q[5], sr, cr);
     // E = Rᵀ; R = Rz(ψ) Ry(θ) Rx(φ).
     const S spcr = sp * cr, spsr = sp * sr;
     XJ.E << cy * cp, sy * cp, -sp,
             cy * spsr - sy * cr, sy * spsr + cy * cr, cp * sr,
             cy * spcr + sy * sr, sy * spcr - cy * sr, cp * cr;
-    XJ.r << q[0], q[1], q[2];
-    for (int k = 0; k < 3; ++k) Scol[k] = {zero, XJ.E.col(k)};
-    Scol[3] = {XJ.E.col(2), zero};
-    Scol[4] = {Vec3<S>(S(0), cr, -sr), zero};
-    Scol[5] = {Vec3<S>(S(1), S(0), S(0)), zero};
+    XJ.r[0] = q[0], XJ.r[1] = q[1], XJ.r[2] = q[2];
+    for (int k = 0; k < 3; ++k) Scol[k] = {Vec3<S>(zero, zero, zero), Vec3<S>(XJ.E(0, k), XJ.E(1, k), XJ.E(2, k))};
+    Scol[3] = {Vec3<S>(XJ.E(0, 2), XJ.E(1, 2), XJ.E(2, 2)), Vec3<S>(zero, zero, zero)};
+    Scol[4] = {Vec3<S>(zero, cr, S(-sr)), Vec3<S>(zero, zero, zero)};
+    Scol[5] = {Vec3<S>(one, zero, zero), Vec3<S>(zero, zero, zero)};
   } else {  // Planar
-    const S c = cos(q[2]), s = sin(q[2]);
-    XJ.E << c, S(0), -s, S(0), S(1), S(0), s, S(0), c;
-    XJ.r << q[0], S(0), q[1];
-    Scol[0] = {zero, XJ.E.col(0)};
-    Scol[1] = {zero, XJ.E.col(2)};
-    Scol[2] = {Vec3<S>(S(0), S(1), S(0)), zero};
+    S c, s;
+    sinCos(q[2], s, c);
+    XJ.E << c, zero, -s, zero, one, zero, s, zero, c;
+    XJ.r[0] = q[0], XJ.r[1] = zero, XJ.r[2] = q[1];
+    Scol[0] = {Vec3<S>(zero, zero, zero), Vec3<S>(c, zero, s)};
+    Scol[1] = {Vec3<S>(zero, zero, zero), Vec3<S>(S(-s), zero, c)};
+    Scol[2] = {Vec3<S>(zero, one, zero), Vec3<S>(zero, zero, zero)};
   }
-  return XJ * model.X_tree[i];
+  const Transform<S>& XT = model.X_tree[i];
+  Transform<S> X;  // X_J X_T (RBDA Table 2.2): E = E_J E_T, r = r_T + E_Tᵀ r_J
+  for (int c = 0; c < 3; ++c) {
+    const Vec3<S> col = mul3(XJ.E, Vec3<S>(XT.E(0, c), XT.E(1, c), XT.E(2, c)));
+    X.E(0, c) = col[0], X.E(1, c) = col[1], X.E(2, c) = col[2];
+  }
+  const Vec3<S> r = add3(XT.r, mulT3(XT.E, XJ.r));
+  X.r[0] = r[0], X.r[1] = r[1], X.r[2] = r[2];
+  return X;
 }
 
 // v_J = S_i q̇_i.
 template <class S>
 [[gnu::noinline]] Motion<S> multiJointVelocity(const Model<S>& model, int i, const Motion<S>* Scol, const S* qd) {
   if (model.joint_type[i] == JointType::Free)
-    return {Scol[3].w * qd[3] + Scol[4].w * qd[4] + Scol[5].w * qd[5],
-            Scol[0].v * qd[0] + Scol[1].v * qd[1] + Scol[2].v * qd[2]};
-  return {Scol[2].w * qd[2], Scol[0].v * qd[0] + Scol[1].v * qd[1]};
+    return {add3(add3(scale3(Scol[3].w, qd[3]), scale3(Scol[4].w, qd[4])), scale3(Scol[5].w, qd[5])),
+            add3(add3(scale3(Scol[0].v, qd[0]), scale3(Scol[1].v, qd[1])), scale3(Scol[2].v, qd[2]))};
+  return {scale3(Scol[2].w, qd[2]), add3(scale3(Scol[0].v, qd[0]), scale3(Scol[1].v, qd[1]))};
 }
 
 // c_J = Ṡ_i q̇_i, given v_J = S_i q̇_i (see above).
 template <class S>
 [[gnu::noinline]] Motion<S> multiJointBias(const Model<S>& model, int i, const Motion<S>* Scol, const S* qd,
-                                       const Motion<S>& vJ) {
-  const Vec3<S> lin = vJ.v.cross(vJ.w);
+                                           const Motion<S>& vJ) {
+  const Vec3<S> lin = cross3(vJ.v, vJ.w);
   if (model.joint_type[i] == JointType::Free) {
     const Vec3<S> w_roll(qd[5], S(0), S(0));
-    return {vJ.w.cross(w_roll) + (Scol[3].w * qd[3]).cross(Scol[4].w * qd[4]), lin};
+    return {add3(cross3(vJ.w, w_roll), cross3(scale3(Scol[3].w, qd[3]), scale3(Scol[4].w, qd[4]))), lin};
   }
-  return {Vec3<S>::Zero(), lin};
+  return {Vec3<S>(S(0), S(0), S(0)), lin};
 }
 
-// S_iᵀ f into out[0 .. n_i).
+// S_iᵀ f into out[0 .. n_i): inline, and out of line below.
 template <class S>
-[[gnu::noinline]] void multiJointForce(const Model<S>& model, int i, const Motion<S>* Scol, const Force<S>& f, S* out) {
+SALTUS_INLINE void multiJointProject(const Model<S>& model, int i, const Motion<S>* Scol, const Force<S>& f, S* out) {
   if (model.joint_type[i] == JointType::Free) {
-    for (int k = 0; k < 3; ++k) out[k] = Scol[k].v.dot(f.f);
-    out[3] = Scol[3].w.dot(f.n);
-    out[4] = Scol[4].w.dot(f.n);
+    for (int k = 0; k < 3; ++k) out[k] = dot3(Scol[k].v, f.f);
+    out[3] = dot3(Scol[3].w, f.n);
+    out[4] = dot3(Scol[4].w, f.n);
     out[5] = f.n[0];
   } else {
-    out[0] = Scol[0].v.dot(f.f);
-    out[1] = Scol[1].v.dot(f.f);
+    out[0] = dot3(Scol[0].v, f.f);
+    out[1] = dot3(Scol[1].v, f.f);
     out[2] = f.n[1];
   }
+}
+template <class S>
+[[gnu::noinline]] void multiJointForce(const Model<S>& model, int i, const Motion<S>* Scol, const Force<S>& f, S* out) {
+  multiJointProject(model, i, Scol, f, out);
 }
 
 }  // namespace saltus::dynamics

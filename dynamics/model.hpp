@@ -5,12 +5,15 @@
 // joint (JointType::Planar, 3 coordinates, or JointType::Free, 6) on the root body. Body i's
 // coordinates are first_coordinate[i] .. first_coordinate[i] + num_coordinates[i] − 1, so a body
 // index is a coordinate index only while every joint has one coordinate (fixed-base models).
-// Coordinates follow the bodies' topological order. Fixed URDF joints are merged into their
+// Bodies are numbered depth first (the builder's order), so the subtree of body i is the range
+// [i, subtree_end[i]). Coordinates follow the bodies' order. Fixed URDF joints are merged into their
 // parent body. Generalised velocities are always the time derivatives of the coordinates:
 // v = q̇, nq = nv.
 #pragma once
 
+#include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -82,6 +85,14 @@ struct Model {
   std::vector<JointType> joint_type;
   std::vector<Vec3<S>> axis;               // unit joint axis in the body (joint) frame (zero for Planar, Free)
   std::vector<int> axis_kind;              // 0, 1, 2: axis is +x, +y, +z (fast paths); −1: general
+  // How the kernels' loops evaluate body i's joint (prepareKernels; joint.hpp, withJoint):
+  // kAxisJoint + K: revolute about σ e_K with no rotation in X_T, so ^iX_λ = rot(R_K(σq)ᵀ) xlt(r_T)
+  // acts on a vector as a cross product and a plane rotation; kRotatedAxisJoint + K: revolute
+  // about σ e_K after a general X_T rotation; kGenericJoint: any other one-coordinate joint;
+  // kMultiJoint: a multi-coordinate (base) joint.
+  std::vector<int> joint_kernel;
+  std::vector<S> axis_sign;                // σ = ±1 for the axis joints, else 1
+  std::vector<int> subtree_end;            // one past the last body of body i's subtree
   std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
   std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
   std::vector<bool> massless;              // I_i = 0 (intermediate links of multi-axis mechanisms)
@@ -155,6 +166,10 @@ struct Model {
     m.parent = parent;
     m.joint_type = joint_type;
     m.axis_kind = axis_kind;
+    m.joint_kernel = joint_kernel;
+    m.subtree_end = subtree_end;
+    m.axis_sign.clear();
+    for (const S& x : axis_sign) m.axis_sign.push_back(T(x));
     m.axis.reserve(axis.size());
     for (const auto& a : axis) m.axis.push_back(a.template cast<T>());
     m.X_tree.reserve(X_tree.size());
@@ -181,6 +196,42 @@ inline int axisKind(const Eigen::Vector3d& a) {
   for (int k = 0; k < 3; ++k)
     if (a == Eigen::Vector3d::Unit(k)) return k;
   return -1;
+}
+
+// Values of Model::joint_kernel.
+constexpr int kAxisJoint = 0;         // + K (0, 1, 2)
+constexpr int kRotatedAxisJoint = 3;  // + K
+constexpr int kGenericJoint = 6;
+constexpr int kMultiJoint = 7;
+
+// Fills model.joint_kernel and model.axis_sign from the joint types, axes and X_T, and
+// model.subtree_end (the builder calls it once the bodies are in place, depth first).
+inline void prepareKernels(Model<double>& model) {
+  const int nb = model.nbodies();
+  // Depth first: the body before i is i's parent or in its parent's subtree.
+  for (int i = 1; i < nb; ++i)
+    if (model.parent[i] >= 0 && !model.isAncestor(model.parent[i], i - 1))
+      throw std::logic_error("prepareKernels: bodies are not in depth-first order");
+  model.subtree_end.resize(nb);
+  for (int i = 0; i < nb; ++i) model.subtree_end[i] = i + 1;
+  for (int i = nb - 1; i >= 0; --i)
+    if (model.parent[i] >= 0) model.subtree_end[model.parent[i]] = std::max(model.subtree_end[model.parent[i]], model.subtree_end[i]);
+  model.joint_kernel.assign(nb, kGenericJoint);
+  model.axis_sign.assign(nb, 1.0);
+  for (int i = 0; i < nb; ++i) {
+    if (model.num_coordinates[i] > 1) {
+      model.joint_kernel[i] = kMultiJoint;
+      continue;
+    }
+    if (model.joint_type[i] != JointType::Revolute) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double sigma = model.axis[i][k];
+      if ((sigma == 1.0 || sigma == -1.0) && model.axis[i][(k + 1) % 3] == 0.0 && model.axis[i][(k + 2) % 3] == 0.0) {
+        model.axis_sign[i] = sigma;
+        model.joint_kernel[i] = (model.X_tree[i].E == Mat3<double>::Identity() ? kAxisJoint : kRotatedAxisJoint) + k;
+      }
+    }
+  }
 }
 
 template <class S>

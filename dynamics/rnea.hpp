@@ -7,12 +7,12 @@
 
 namespace saltus::dynamics {
 
-// The outward step of RNEA for body i, given its parent's velocity v_λ and acceleration a_λ
-// (offset by −g): fills X_up[i], v[i], a_gf[i] and the body force f[i] (RBDA 5.7–5.9):
+// The outward step of RNEA for body i, given ^iX_λ in data.X_up, its joint's v_J, the acceleration
+// terms a_i so far and its parent's velocity v_λ: fills v[i], a_gf[i] (a_i offset by −g) and the
+// body force f[i] (RBDA 5.7–5.9):
 //   v_i = ^iX_λ v_λ + S_i q̇_i,  a_i = ^iX_λ a_λ + S_i q̈_i + c_J + v_i × S_i q̇_i,
 //   f_i = I_i a_i + v_i ×* I_i v_i.
-// q, qd, qdd point at body i's first coordinate; qdd == nullptr means q̈_i = 0; v_parent ==
-// nullptr means the parent is the fixed world.
+// v_parent == nullptr means the parent is the fixed world.
 template <class S>
 SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const Motion<S>& vJ, Motion<S> ai,
                                    const Motion<S>* v_parent) {
@@ -29,13 +29,30 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
   else
     data.f[i] = I * ai + data.v[i].crossForce(I * data.v[i]);
 }
+// The same for a one-coordinate joint whose ^iX_λ is in data.X_up (withJoint), with its
+// transform and motion subspace in the forms of its kernel, given the parent's acceleration
+// a_λ. qd, qdd are the joint's coordinate; qdd == nullptr means q̈_i = 0.
 template <class S>
-SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
+SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, const S& qd,
                                    const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
-  data.X_up[i] = jointTransformUp(model, i, *q);
-  Motion<S> ai = data.X_up[i].apply(a_parent);
-  if (qdd) ai += jointVelocity(model, i, *qdd);
-  rneaForwardStep(model, data, i, jointVelocity(model, i, *qd), ai, v_parent);
+  withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    Motion<S> vi, ai = X.apply(a_parent);
+    if (v_parent) {
+      vi = X.apply(*v_parent);
+      Si.addTo(vi, qd);
+      ai += Si.crossVelocity(vi, qd);  // v_i × S_i q̇_i
+    } else {
+      vi = Si.velocity(qd);
+    }
+    if (qdd) Si.addTo(ai, *qdd);
+    data.v[i] = vi;
+    data.a_gf[i] = ai;
+    const RigidInertia<S>& I = model.inertia[i];
+    if (model.massless[i])
+      data.f[i] = Force<S>::Zero();
+    else
+      data.f[i] = I * ai + vi.crossForce(I * vi);
+  });
 }
 // The same for a multi-coordinate joint, out of line: it runs once per call (the base), and
 // inlined it slows the loop over the one-coordinate joints.
@@ -70,15 +87,21 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
   if (b) rneaMultiForwardStep<S>(model, data, 0, q.data(), v.data(), a ? a->data() : nullptr, nullptr, a0);
   const int off = model.nv() - nb;  // coordinate k = i + off of body i ≥ b
+  // Joint transforms (jcalc) in a loop of their own: its libm calls would otherwise spill the
+  // registers of the loop below.
+  for (int i = b; i < nb; ++i)
+    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
-    rneaForwardStep(model, data, i, q.data() + k, v.data() + k, a ? a->data() + k : nullptr,
-                    p < 0 ? nullptr : &data.v[p], p < 0 ? a0 : data.a_gf[p]);
+    rneaForwardStep(model, data, i, v[k], a ? a->data() + k : nullptr, p < 0 ? nullptr : &data.v[p],
+                    p < 0 ? a0 : data.a_gf[p]);
   }
   for (int i = nb - 1; i >= b; --i) {
-    data.tau[i + off] = jointForce(model, i, data.f[i]);
     const int p = model.parent[i];
-    if (p >= 0) data.f[p] += data.X_up[i].applyTranspose(data.f[i]);
+    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) {
+      data.tau[i + off] = Si.project(data.f[i]);
+      if (p >= 0) data.f[p] += X.applyTranspose(data.f[i]);
+    });
   }
   if (b) multiJointForce(model, 0, data.S_joint.data(), data.f[0], data.tau.data());
   return data.tau;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <type_traits>
 
 namespace saltus::dynamics {
@@ -21,6 +22,10 @@ namespace saltus::dynamics {
 // The small spatial operations are forced inline: GCC otherwise leaves some of them as calls
 // inside the recursions, which costs more than the arithmetic.
 #define SALTUS_INLINE inline __attribute__((always_inline))
+// On the per-joint lambdas of the kernels (joint.hpp, withJoint). Not on every one: GCC 12 stops
+// with an internal error (gimple_duplicate_bb) on RNEA in nested AD scalars when both of its
+// lambdas are forced.
+#define SALTUS_LAMBDA_INLINE __attribute__((always_inline))
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
@@ -44,6 +49,68 @@ Mat3<S> skew(const Vec3<S>& x) {
   return m;
 }
 
+// The 3-vector and 3×3 operations of the recursions, written out component by component:
+// Eigen's fixed-size 3-vector expressions compile to a mix of 2-wide and scalar code whose
+// partial stores and wide reloads stall store forwarding, and GCC leaves some of them as calls.
+// Written out, they stay scalar-generic (AD scalars run through them unchanged).
+template <class S>
+SALTUS_INLINE Vec3<S> cross3(const Vec3<S>& a, const Vec3<S>& b) {  // a × b
+  return Vec3<S>(S(a[1] * b[2] - a[2] * b[1]), S(a[2] * b[0] - a[0] * b[2]), S(a[0] * b[1] - a[1] * b[0]));
+}
+template <class S>
+SALTUS_INLINE Vec3<S> mul3(const Mat3<S>& E, const Vec3<S>& x) {  // E x
+  return Vec3<S>(S(E(0, 0) * x[0] + E(0, 1) * x[1] + E(0, 2) * x[2]),
+                 S(E(1, 0) * x[0] + E(1, 1) * x[1] + E(1, 2) * x[2]),
+                 S(E(2, 0) * x[0] + E(2, 1) * x[1] + E(2, 2) * x[2]));
+}
+template <class S>
+SALTUS_INLINE Vec3<S> mulT3(const Mat3<S>& E, const Vec3<S>& x) {  // Eᵀ x
+  return Vec3<S>(S(E(0, 0) * x[0] + E(1, 0) * x[1] + E(2, 0) * x[2]),
+                 S(E(0, 1) * x[0] + E(1, 1) * x[1] + E(2, 1) * x[2]),
+                 S(E(0, 2) * x[0] + E(1, 2) * x[1] + E(2, 2) * x[2]));
+}
+template <class S>
+SALTUS_INLINE Vec3<S> add3(const Vec3<S>& a, const Vec3<S>& b) {
+  return Vec3<S>(S(a[0] + b[0]), S(a[1] + b[1]), S(a[2] + b[2]));
+}
+template <class S>
+SALTUS_INLINE Vec3<S> sub3(const Vec3<S>& a, const Vec3<S>& b) {
+  return Vec3<S>(S(a[0] - b[0]), S(a[1] - b[1]), S(a[2] - b[2]));
+}
+template <class S>
+SALTUS_INLINE Vec3<S> scale3(const Vec3<S>& a, const S& s) {
+  return Vec3<S>(S(a[0] * s), S(a[1] * s), S(a[2] * s));
+}
+template <class S>
+SALTUS_INLINE void copy3(Vec3<S>& a, const Vec3<S>& b) {
+  a[0] = b[0];
+  a[1] = b[1];
+  a[2] = b[2];
+}
+template <class S>
+SALTUS_INLINE void addTo3(Vec3<S>& a, const Vec3<S>& b) {
+  a[0] += b[0];
+  a[1] += b[1];
+  a[2] += b[2];
+}
+template <class S>
+SALTUS_INLINE void subFrom3(Vec3<S>& a, const Vec3<S>& b) {
+  a[0] -= b[0];
+  a[1] -= b[1];
+  a[2] -= b[2];
+}
+template <class S>
+SALTUS_INLINE S dot3(const Vec3<S>& a, const Vec3<S>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+// I x for a symmetric I: reads the lower triangle only.
+template <class S>
+SALTUS_INLINE Vec3<S> mulSym3(const Mat3<S>& I, const Vec3<S>& x) {
+  return Vec3<S>(S(I(0, 0) * x[0] + I(1, 0) * x[1] + I(2, 0) * x[2]),
+                 S(I(1, 0) * x[0] + I(1, 1) * x[1] + I(2, 1) * x[2]),
+                 S(I(2, 0) * x[0] + I(2, 1) * x[1] + I(2, 2) * x[2]));
+}
+
 template <class S> struct Force;
 
 // Spatial motion vector (ω; v) (RBDA 2.2).
@@ -52,13 +119,24 @@ struct Motion {
   Vec3<S> w;  // angular velocity
   Vec3<S> v;  // linear velocity of the point at the frame origin
 
+  Motion() = default;
+  SALTUS_INLINE Motion(const Vec3<S>& w_, const Vec3<S>& v_) { copy3(w, w_), copy3(v, v_); }
+  // Copies component by component: Eigen copies a 3-vector as a 2-wide and a scalar move, which
+  // stalls store forwarding on values just stored one by one.
+  SALTUS_INLINE Motion(const Motion& o) { copy3(w, o.w), copy3(v, o.v); }
+  SALTUS_INLINE Motion& operator=(const Motion& o) {
+    copy3(w, o.w);
+    copy3(v, o.v);
+    return *this;
+  }
+
   static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  SALTUS_INLINE Motion operator+(const Motion& o) const { return {w + o.w, v + o.v}; }
-  SALTUS_INLINE Motion operator-(const Motion& o) const { return {w - o.w, v - o.v}; }
-  SALTUS_INLINE Motion& operator+=(const Motion& o) { w += o.w; v += o.v; return *this; }
-  SALTUS_INLINE Motion operator*(const S& s) const { return {w * s, v * s}; }
+  SALTUS_INLINE Motion operator+(const Motion& o) const { return {add3(w, o.w), add3(v, o.v)}; }
+  SALTUS_INLINE Motion operator-(const Motion& o) const { return {sub3(w, o.w), sub3(v, o.v)}; }
+  SALTUS_INLINE Motion& operator+=(const Motion& o) { addTo3(w, o.w); addTo3(v, o.v); return *this; }
+  SALTUS_INLINE Motion operator*(const S& s) const { return {scale3(w, s), scale3(v, s)}; }
   // crm(this) * m  (RBDA 2.31): the derivative of m moving with velocity *this.
-  SALTUS_INLINE Motion cross(const Motion& m) const { return {w.cross(m.w), w.cross(m.v) + v.cross(m.w)}; }
+  SALTUS_INLINE Motion cross(const Motion& m) const { return {cross3(w, m.w), add3(cross3(w, m.v), cross3(v, m.w))}; }
   // crf(this) * f  (RBDA 2.32).
   SALTUS_INLINE Force<S> crossForce(const Force<S>& f) const;
   Vec6<S> vector() const { Vec6<S> x; x << w, v; return x; }
@@ -71,25 +149,34 @@ struct Force {
   Vec3<S> n;  // moment about the frame origin
   Vec3<S> f;  // force
 
+  Force() = default;
+  SALTUS_INLINE Force(const Vec3<S>& n_, const Vec3<S>& f_) { copy3(n, n_), copy3(f, f_); }
+  SALTUS_INLINE Force(const Force& o) { copy3(n, o.n), copy3(f, o.f); }  // see Motion
+  SALTUS_INLINE Force& operator=(const Force& o) {
+    copy3(n, o.n);
+    copy3(f, o.f);
+    return *this;
+  }
+
   static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
-  SALTUS_INLINE Force operator+(const Force& o) const { return {n + o.n, f + o.f}; }
-  SALTUS_INLINE Force operator-(const Force& o) const { return {n - o.n, f - o.f}; }
-  SALTUS_INLINE Force& operator+=(const Force& o) { n += o.n; f += o.f; return *this; }
-  SALTUS_INLINE Force& operator-=(const Force& o) { n -= o.n; f -= o.f; return *this; }
-  SALTUS_INLINE Force operator*(const S& s) const { return {n * s, f * s}; }
+  SALTUS_INLINE Force operator+(const Force& o) const { return {add3(n, o.n), add3(f, o.f)}; }
+  SALTUS_INLINE Force operator-(const Force& o) const { return {sub3(n, o.n), sub3(f, o.f)}; }
+  SALTUS_INLINE Force& operator+=(const Force& o) { addTo3(n, o.n); addTo3(f, o.f); return *this; }
+  SALTUS_INLINE Force& operator-=(const Force& o) { subFrom3(n, o.n); subFrom3(f, o.f); return *this; }
+  SALTUS_INLINE Force operator*(const S& s) const { return {scale3(n, s), scale3(f, s)}; }
   Vec6<S> vector() const { Vec6<S> x; x << n, f; return x; }
   static Force FromVector(const Vec6<S>& x) { return {x.template head<3>(), x.template tail<3>()}; }
 };
 
 template <class S>
 SALTUS_INLINE Force<S> Motion<S>::crossForce(const Force<S>& f) const {
-  return {w.cross(f.n) + v.cross(f.f), w.cross(f.f)};
+  return {add3(cross3(w, f.n), cross3(v, f.f)), cross3(w, f.f)};
 }
 
 // Scalar product of a motion and a force (power).
 template <class S>
 SALTUS_INLINE S dot(const Motion<S>& m, const Force<S>& f) {
-  return m.w.dot(f.n) + m.v.dot(f.f);
+  return dot3(m.w, f.n) + dot3(m.v, f.f);
 }
 
 // Plücker transform B_X_A (RBDA 2.24).
@@ -102,21 +189,21 @@ struct Transform {
 
   // X m: motion from A to B coordinates.
   SALTUS_INLINE Motion<S> apply(const Motion<S>& m) const {
-    return {E * m.w, E * (m.v - r.cross(m.w))};
+    return {mul3(E, m.w), mul3(E, sub3(m.v, cross3(r, m.w)))};
   }
   // X* f: force from A to B coordinates.
   SALTUS_INLINE Force<S> apply(const Force<S>& f) const {
-    return {E * (f.n - r.cross(f.f)), E * f.f};
+    return {mul3(E, sub3(f.n, cross3(r, f.f))), mul3(E, f.f)};
   }
   // X⁻¹ m: motion from B to A coordinates.
   SALTUS_INLINE Motion<S> applyInverse(const Motion<S>& m) const {
-    const Vec3<S> w = E.transpose() * m.w;
-    return {w, E.transpose() * m.v + r.cross(w)};
+    const Vec3<S> w = mulT3(E, m.w);
+    return {w, add3(mulT3(E, m.v), cross3(r, w))};
   }
   // Xᵀ f = (X*)⁻¹ f: force from B to A coordinates (RBDA 2.25).
   SALTUS_INLINE Force<S> applyTranspose(const Force<S>& f) const {
-    const Vec3<S> ff = E.transpose() * f.f;
-    return {E.transpose() * f.n + r.cross(ff), ff};
+    const Vec3<S> ff = mulT3(E, f.f);
+    return {add3(mulT3(E, f.n), cross3(r, ff)), ff};
   }
   // (C_X_B) * (B_X_A) = C_X_A  (RBDA Table 2.2).
   SALTUS_INLINE Transform operator*(const Transform& bXa) const {
@@ -152,12 +239,18 @@ struct RigidInertia {
     return {mass, c * mass, Ic - mass * cx * cx};
   }
 
-  SALTUS_INLINE RigidInertia operator+(const RigidInertia& o) const { return {m + o.m, h + o.h, I + o.I}; }
-  SALTUS_INLINE RigidInertia& operator+=(const RigidInertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
+  SALTUS_INLINE RigidInertia operator+(const RigidInertia& o) const { RigidInertia x = *this; return x += o; }
+  SALTUS_INLINE RigidInertia& operator+=(const RigidInertia& o) {
+    m += o.m;
+    addTo3(h, o.h);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) I(k, c) += o.I(k, c);
+    return *this;
+  }
 
   // I v  (RBDA 2.62).
   SALTUS_INLINE Force<S> operator*(const Motion<S>& v) const {
-    return {I * v.w + h.cross(v.v), m * v.v - h.cross(v.w)};
+    return {add3(mulSym3(I, v.w), cross3(h, v.v)), sub3(scale3(v.v, m), cross3(h, v.w))};
   }
 
   // Xᵀ I X: this inertia is expressed in B coordinates; returns it in A coordinates, where
@@ -168,9 +261,9 @@ struct RigidInertia {
     const Vec3<S>& r = X.r;
     RigidInertia out;
     out.m = m;
-    const Vec3<S> h1 = E.transpose() * h;
-    out.h = h1 + m * r;
-    const S diag = S(2) * r.dot(h1) + m * r.dot(r);
+    const Vec3<S> h1 = mulT3(E, h);
+    out.h = add3(h1, scale3(r, m));
+    const S diag = S(2) * dot3(r, h1) + m * dot3(r, r);
     // Ī' = Eᵀ Ī E, one triangle, mirrored.
     Mat3<S> IE;
     for (int c = 0; c < 3; ++c)
@@ -197,6 +290,17 @@ struct RigidInertia {
   template <class T>
   RigidInertia<T> cast() const { return {T(m), h.template cast<T>(), I.template cast<T>()}; }
 };
+
+// sin q and cos q; for double in one libm call (GCC merges separate sin and cos calls only
+// when it sees both in one block).
+template <class S>
+SALTUS_INLINE void sinCos(const S& q, S& s, S& c) {
+  using std::cos;
+  using std::sin;
+  s = sin(q);
+  c = cos(q);
+}
+SALTUS_INLINE void sinCos(double q, double& s, double& c) { ::sincos(q, &s, &c); }
 
 // Rotation matrix (active) by angle q about a unit axis (Rodrigues).
 template <class S>

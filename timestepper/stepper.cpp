@@ -361,7 +361,8 @@ void TimeStepper::linearise(double h) {
   const dynamics::Model<double>& model = scene_.model;
   const double theta = options_.theta;
   q_theta_ = q_ + (1 - theta) * h * v_;
-  dynamics::crba(model, data_, q_theta_);  // also fills the world poses used below
+  dynamics::forwardKinematics(model, data_, q_theta_);  // the world poses used below
+  dynamics::crba(model, data_, q_theta_);
   llt_.compute(data_.M);
   if (llt_.info() != Eigen::Success)
     throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);

@@ -123,5 +123,108 @@ TEST(Joint, TranslationCoordinates) {
   }
 }
 
+// The model with every one-coordinate joint on the generic path (a general transform from
+// jointTransformUp, S_i from the axis): the reference for the specialised joint kernels.
+Model<double> withGenericKernels(Model<double> model) {
+  for (int i = 0; i < model.nbodies(); ++i)
+    if (model.joint_kernel[i] != kMultiJoint) model.joint_kernel[i] = kGenericJoint, model.axis_sign[i] = 1.0;
+  return model;
+}
+
+TEST(Joint, KernelsFollowAxesAndJointOrigins) {
+  ModelBuilder b("kinds");
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  b.addLink("a", 1, Eigen::Vector3d::Zero(), I);
+  const Eigen::Matrix3d turned = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  struct Case {
+    LinkJointType type;
+    Eigen::Vector3d axis;
+    bool rotated;
+    int kernel;
+    double sign;
+  };
+  const std::vector<Case> cases = {
+      {LinkJointType::Revolute, Eigen::Vector3d::UnitX(), false, kAxisJoint + 0, 1},
+      {LinkJointType::Continuous, -Eigen::Vector3d::UnitY(), false, kAxisJoint + 1, -1},
+      {LinkJointType::Revolute, Eigen::Vector3d::UnitZ(), true, kRotatedAxisJoint + 2, 1},
+      {LinkJointType::Revolute, -Eigen::Vector3d::UnitX(), true, kRotatedAxisJoint + 0, -1},
+      {LinkJointType::Revolute, Eigen::Vector3d(1, 1, 0), false, kGenericJoint, 1},
+      {LinkJointType::Prismatic, Eigen::Vector3d::UnitZ(), false, kGenericJoint, 1}};
+  std::string parent = "a";
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string child = "l" + std::to_string(k);
+    b.addLink(child, 1, Eigen::Vector3d::Zero(), I);
+    JointSpec j;
+    j.name = "j" + std::to_string(k);
+    j.type = cases[k].type;
+    j.parent = parent;
+    j.child = child;
+    j.axis = cases[k].axis;
+    j.R_PJ = cases[k].rotated ? turned : Eigen::Matrix3d::Identity();
+    j.p_PJ = Eigen::Vector3d(0.1, 0.2, 0.3);
+    if (j.type != LinkJointType::Continuous) j.limits = {-1, 1, 10, 10};
+    b.addJoint(j);
+    parent = child;
+  }
+  const Model<double> model = b.build(BaseType::Free);
+  EXPECT_EQ(model.joint_kernel[0], kMultiJoint);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    EXPECT_EQ(model.joint_kernel[k + 1], cases[k].kernel) << k;
+    EXPECT_EQ(model.axis_sign[k + 1], cases[k].sign) << k;
+  }
+  // A chain: every subtree runs to the end.
+  for (int i = 0; i < model.nbodies(); ++i) EXPECT_EQ(model.subtree_end[i], model.nbodies());
+}
+
+TEST(Joint, SubtreesAreContiguousRanges) {
+  std::mt19937 rng(31);
+  const Model<double> model = testing::randomTreeBuilder(rng, 25).build(BaseType::Free);
+  for (int i = 0; i < model.nbodies(); ++i)
+    for (int j = 0; j < model.nbodies(); ++j)
+      EXPECT_EQ(model.isAncestor(i, j), j >= i && j < model.subtree_end[i]) << i << " " << j;
+}
+
+// Each specialised joint kernel (revolute about ±x, ±y, ±z, with and without a rotation in the
+// joint origin) against the generic path, on random trees on each base.
+TEST(Joint, AxisKernelsEqualGenericPath) {
+  for (BaseType base : {BaseType::Fixed, BaseType::Planar, BaseType::Free}) {
+    for (int seed = 0; seed < 4; ++seed) {
+      std::mt19937 rng(1200 + seed);
+      const Model<double> model = testing::randomAxisTreeBuilder(rng, 6 + 4 * seed).build(base);
+      const Model<double> generic = withGenericKernels(model);
+      int axis_joints = 0, rotated_joints = 0;
+      for (int kernel : model.joint_kernel) {
+        axis_joints += kernel >= kAxisJoint && kernel < kAxisJoint + 3;
+        rotated_joints += kernel >= kRotatedAxisJoint && kernel < kRotatedAxisJoint + 3;
+      }
+      ASSERT_GT(axis_joints, 0);
+      ASSERT_GT(rotated_joints, 0);
+      const int n = model.nv();
+      Data<double> d(model), dg(generic);
+      for (int trial = 0; trial < 3; ++trial) {
+        const Eigen::VectorXd q = testing::randomVector(rng, n, 3), v = testing::randomVector(rng, n, 2),
+                              a = testing::randomVector(rng, n, 2), tau = testing::randomVector(rng, n, 3);
+        const std::string what = std::string(toString(base)) + " seed " + std::to_string(1200 + seed);
+        expectNear(rnea(model, d, q, v, a), rnea(generic, dg, q, v, a), 1e-12, what + " rnea");
+        for (int i = 0; i < model.nbodies(); ++i) {
+          EXPECT_LT((d.X_up[i].matrix() - dg.X_up[i].matrix()).norm(), 1e-12) << what << " X_up " << i;
+          EXPECT_LT((d.v[i].vector() - dg.v[i].vector()).norm(), 1e-12) << what << " v " << i;
+          EXPECT_LT((d.a_gf[i].vector() - dg.a_gf[i].vector()).norm(), 1e-12) << what << " a " << i;
+        }
+        expectNear(nonLinearEffects(model, d, q, v), nonLinearEffects(generic, dg, q, v), 1e-12, what + " h");
+        expectNear(crba(model, d, q), crba(generic, dg, q), 1e-12, what + " crba");
+        expectNear(aba(model, d, q, v, tau), aba(generic, dg, q, v, tau), 1e-12, what + " aba");
+        DerivativeData<8> dd(model), ddg(generic);
+        rneaDerivatives(model, dd, q, v, a);
+        rneaDerivatives(generic, ddg, q, v, a);
+        expectNear(dd.dtau_dq, ddg.dtau_dq, 1e-11, what + " dtau/dq");
+        abaDerivatives(model, dd, q, v, tau);
+        abaDerivatives(generic, ddg, q, v, tau);
+        expectNear(dd.dqdd_dq, ddg.dqdd_dq, 1e-10, what + " dqdd/dq");
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace saltus::dynamics

@@ -57,6 +57,42 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
   return b;
 }
 
+// A random tree of n revolute joints about ±x, ±y, ±z, each with a random joint origin and, for
+// about half of them, no rotation in the joint origin (URDF rpy 0 0 0): every joint kernel of
+// Model::joint_kernel other than the generic one. About one in eight joints is fixed (merged).
+inline dynamics::ModelBuilder randomAxisTreeBuilder(std::mt19937& rng, int n) {
+  using namespace dynamics;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 7), axis(0, 5);
+  ModelBuilder b("random_axes");
+  double m;
+  Eigen::Vector3d c;
+  Eigen::Matrix3d I;
+  randomInertia(rng, m, c, I);
+  b.addLink("link0", m, c, I);
+  int links = 1;
+  for (int moving = 0; moving < n;) {
+    std::uniform_int_distribution<int> pick(0, links - 1);
+    JointSpec j;
+    j.parent = "link" + std::to_string(pick(rng));
+    j.child = "link" + std::to_string(links);
+    j.name = "joint" + std::to_string(links);
+    const int k = kind(rng);
+    j.type = k == 0 ? LinkJointType::Fixed : k < 4 ? LinkJointType::Revolute : LinkJointType::Continuous;
+    if (j.type != LinkJointType::Fixed) ++moving;
+    if (j.type == LinkJointType::Revolute) j.limits = {-2, 2, 10, 100};
+    if (k % 2 == 1) j.R_PJ = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    j.p_PJ = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.5;
+    const int a = axis(rng);
+    j.axis = Eigen::Vector3d::Unit(a % 3) * (a < 3 ? 1.0 : -1.0);
+    randomInertia(rng, m, c, I);
+    b.addLink(j.child, m, c, I);
+    b.addJoint(j);
+    ++links;
+  }
+  return b;
+}
+
 inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale = 1.0) {
   std::uniform_real_distribution<double> u(-scale, scale);
   Eigen::VectorXd x(n);
