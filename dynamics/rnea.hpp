@@ -56,11 +56,12 @@ SALTUS_INLINE void rneaForwardStep(const Model<S>& model, Data<S>& data, int i, 
 }
 // The same for a multi-coordinate joint, out of line: it runs once per call (the base), and
 // inlined it slows the loop over the one-coordinate joints.
+// q == nullptr: data.X_up[i] and the joint's S_i columns in data.S_joint are current.
 template <class S>
 [[gnu::noinline]] void rneaMultiForwardStep(const Model<S>& model, Data<S>& data, int i, const S* q, const S* qd,
                                             const S* qdd, const Motion<S>* v_parent, const Motion<S>& a_parent) {
   Motion<S>* Scol = &data.S_joint[model.first_coordinate[i]];
-  data.X_up[i] = multiJointTransformUp(model, i, q, Scol);
+  if (q) data.X_up[i] = multiJointTransformUp(model, i, q, Scol);
   const Motion<S> vJ = multiJointVelocity(model, i, Scol, qd);
   Motion<S> ai = data.X_up[i].apply(a_parent) + multiJointBias(model, i, Scol, qd, vJ);
   if (qdd) ai += multiJointVelocity(model, i, Scol, qdd);
@@ -77,20 +78,22 @@ SALTUS_INLINE void jointForces(const Model<S>& model, const Data<S>& data, int i
 }
 
 namespace detail {
-// RNEA; a == nullptr means q̈ = 0 (the bias forces h = C q̇ + g).
+// RNEA; a == nullptr means q̈ = 0 (the bias forces h = C q̇ + g); q == nullptr means the joint
+// transforms in data (X_up, and S_joint of a multi-coordinate joint) are current.
 template <class S>
-const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v,
+const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>* q, const VecRef<S>& v,
                     const VecRef<S>* a) {
   const int nb = model.nbodies();
   const Motion<S> a0{Vec3<S>::Zero(), -model.gravity};  // a_0 = −a_g: gravity as a base acceleration
   // A multi-coordinate joint can only be body 0's (model.hpp); the loops take the others.
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
-  if (b) rneaMultiForwardStep<S>(model, data, 0, q.data(), v.data(), a ? a->data() : nullptr, nullptr, a0);
+  if (b) rneaMultiForwardStep<S>(model, data, 0, q ? q->data() : nullptr, v.data(), a ? a->data() : nullptr, nullptr, a0);
   const int off = model.nv() - nb;  // coordinate k = i + off of body i ≥ b
   // Joint transforms (jcalc) in a loop of their own: its libm calls would otherwise spill the
   // registers of the loop below.
-  for (int i = b; i < nb; ++i)
-    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
+  if (q)
+    for (int i = b; i < nb; ++i)
+      withJoint(model, data.X_up[i], i, (*q)[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
     rneaForwardStep(model, data, i, v[k], a ? a->data() + k : nullptr, p < 0 ? nullptr : &data.v[p],
@@ -112,13 +115,21 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
 template <class S>
 const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v,
                     const VecRef<S>& a) {
-  return detail::rnea(model, data, q, v, &a);
+  return detail::rnea(model, data, &q, v, &a);
 }
 
 // h(q, q̇) = C(q, q̇) q̇ + g(q): RNEA with q̈ = 0. Result in data.tau.
 template <class S>
 const VecX<S>& nonLinearEffects(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v) {
-  return detail::rnea<S>(model, data, q, v, nullptr);
+  return detail::rnea<S>(model, data, &q, v, nullptr);
+}
+
+// h(q, q̇) at the q of the last call that evaluated the joint transforms (forwardKinematics,
+// forwardVelocities, crba, rnea, nonLinearEffects, aba): their X_up and S_joint are reused, so a
+// caller that needs M(q) and h at several velocities pays for jcalc once (timestepper/stepper.cpp).
+template <class S>
+const VecX<S>& nonLinearEffectsAtCurrentPoses(const Model<S>& model, Data<S>& data, const VecRef<S>& v) {
+  return detail::rnea<S>(model, data, nullptr, v, nullptr);
 }
 
 }  // namespace saltus::dynamics

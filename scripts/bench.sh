@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 [ -x build/bench/saltus_bench ] || bash scripts/build.sh release
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
-build/bench/saltus_bench --benchmark_min_time=0.5 --benchmark_repetitions=3 \
+build/bench/saltus_bench --benchmark_filter='^BM_(RNEA|CRBA|ABA|PointJacobian|RNEA_AD_Jacobian|ABA_AD_Jacobian)/' \
+  --benchmark_min_time=0.5 --benchmark_repetitions=3 \
   --benchmark_report_aggregates_only=true --benchmark_format=json "$@" > "$out"
 python3 scripts/bench_table.py "$out"

@@ -362,15 +362,15 @@ void TimeStepper::linearise(double h) {
   const double theta = options_.theta;
   q_theta_ = q_ + (1 - theta) * h * v_;
   dynamics::forwardKinematics(model, data_, q_theta_);  // the world poses used below
-  dynamics::crba(model, data_, q_theta_);
+  dynamics::crba(model, data_, q_theta_);  // with the joint transforms reused by h below
   llt_.compute(data_.M);
   if (llt_.info() != Eigen::Success)
     throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);
-  rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_);
+  rhs_ = tau_ - dynamics::nonLinearEffectsAtCurrentPoses(model, data_, v_);
   choleskySolve(llt_.matrixLLT(), rhs_);
   if (theta < 1) {  // forces at the predicted v_θ
     v_theta_ = v_ + (1 - theta) * h * rhs_;
-    rhs_ = tau_ - dynamics::nonLinearEffects(model, data_, q_theta_, v_theta_);
+    rhs_ = tau_ - dynamics::nonLinearEffectsAtCurrentPoses(model, data_, v_theta_);
     choleskySolve(llt_.matrixLLT(), rhs_);
   }
   v_free_ = v_ + h * rhs_;

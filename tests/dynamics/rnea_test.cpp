@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "dynamics/aba.hpp"
+#include "dynamics/crba.hpp"
 #include "dynamics/energy.hpp"
 #include "dynamics/kinematics.hpp"
 #include "tests/support/pendulum.hpp"
@@ -53,6 +54,36 @@ TEST(Rnea, InvertsAbaOnRandomTrees) {
       EXPECT_LT((rnea(model, data, q, v, qdd) - tau).norm(), 1e-9 * (1 + tau.norm())) << toString(base);
     }
   }
+}
+
+TEST(Rnea, NonLinearEffectsReuseTheJointTransformsOfAnyKinematicsCall) {
+  // After any call that evaluated the joints at q (and a call at another q in between would break
+  // it), h at other velocities without jcalc equals nonLinearEffects(q, v): exactly after crba and
+  // aba (the same joint kernels), to round-off after forwardKinematics (the general jcalc).
+  std::mt19937 rng(21);
+  for (BaseType base : {BaseType::Fixed, BaseType::Planar, BaseType::Free})
+    for (const bool axis_tree : {false, true}) {
+      const Model<double> model =
+          (axis_tree ? testing::randomAxisTreeBuilder(rng, 7) : testing::randomTreeBuilder(rng, 7)).build(base);
+      Data<double> data(model), reference(model);
+      const int n = model.nv();
+      const Eigen::VectorXd q = testing::randomVector(rng, n, 1.2), v1 = testing::randomVector(rng, n),
+                            v2 = testing::randomVector(rng, n);
+      for (int evaluator = 0; evaluator < 3; ++evaluator) {
+        nonLinearEffects(model, data, Eigen::VectorXd(q + Eigen::VectorXd::Ones(n)), v1);  // other poses first
+        if (evaluator == 0) forwardKinematics(model, data, q);
+        if (evaluator == 1) crba(model, data, q);
+        if (evaluator == 2) aba(model, data, q, v1, v2);
+        for (const Eigen::VectorXd* v : {&v1, &v2}) {
+          const Eigen::VectorXd h = nonLinearEffectsAtCurrentPoses(model, data, *v);
+          const Eigen::VectorXd h_ref = nonLinearEffects(model, reference, q, *v);
+          if (evaluator == 0)
+            EXPECT_LT((h - h_ref).norm(), 1e-12 * (1 + h_ref.norm())) << toString(base);
+          else
+            EXPECT_EQ(h, h_ref) << toString(base) << " evaluator " << evaluator;
+        }
+      }
+    }
 }
 
 TEST(Rnea, GravityTermIsGradientOfPotential) {
