@@ -22,13 +22,13 @@ inline void randomInertia(std::mt19937& rng, double& mass, Eigen::Vector3d& com,
   Ic = R * d.asDiagonal() * R.transpose();
 }
 
-// A random tree of n moving joints (revolute, continuous or prismatic, random axes, about one
-// in ten fixed joints merged in) on the given base.
-inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
+// A random tree of n moving joints grown link by link, each new link hung from a random earlier
+// one with a random inertia; `choose(rng, joint)` sets the new joint's type, limits, origin and axis
+// and returns whether it moves (fixed joints are merged by the builder).
+template <class ChooseJoint>
+dynamics::ModelBuilder randomTree(std::mt19937& rng, int n, const std::string& name, const ChooseJoint& choose) {
   using namespace dynamics;
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::uniform_int_distribution<int> kind(0, 9);
-  ModelBuilder b("random");
+  ModelBuilder b(name);
   double m;
   Eigen::Vector3d c;
   Eigen::Matrix3d I;
@@ -41,14 +41,7 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
     j.parent = "link" + std::to_string(pick(rng));
     j.child = "link" + std::to_string(links);
     j.name = "joint" + std::to_string(links);
-    const int k = kind(rng);
-    j.type = k < 5 ? LinkJointType::Revolute : k < 7 ? LinkJointType::Continuous
-           : k < 9 ? LinkJointType::Prismatic : LinkJointType::Fixed;
-    if (j.type != LinkJointType::Fixed) ++moving;
-    if (j.type == LinkJointType::Revolute || j.type == LinkJointType::Prismatic) j.limits = {-2, 2, 10, 100};
-    j.R_PJ = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
-    j.p_PJ = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.5;
-    j.axis = k % 2 == 0 ? Eigen::Vector3d(Eigen::Vector3d::Unit((k / 2) % 3)) : Eigen::Vector3d(u(rng), u(rng), u(rng));
+    if (choose(rng, j)) ++moving;
     randomInertia(rng, m, c, I);
     b.addLink(j.child, m, c, I);
     b.addJoint(j);
@@ -57,40 +50,39 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
   return b;
 }
 
-// A random tree of n revolute joints about ±x, ±y, ±z, each with a random joint origin and, for
-// about half of them, no rotation in the joint origin (URDF rpy 0 0 0): every joint kernel of
-// Model::joint_kernel other than the generic one. About one in eight joints is fixed (merged).
+// Revolute, continuous or prismatic joints with random axes (half of them along a coordinate
+// axis), random origins, about one in ten fixed.
+inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
+  using namespace dynamics;
+  return randomTree(rng, n, "random", [](std::mt19937& r, JointSpec& j) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int k = std::uniform_int_distribution<int>(0, 9)(r);
+    j.type = k < 5 ? LinkJointType::Revolute : k < 7 ? LinkJointType::Continuous
+           : k < 9 ? LinkJointType::Prismatic : LinkJointType::Fixed;
+    if (j.type == LinkJointType::Revolute || j.type == LinkJointType::Prismatic) j.limits = {-2, 2, 10, 100};
+    j.R_PJ = Eigen::Quaterniond(u(r), u(r), u(r), u(r)).normalized().toRotationMatrix();
+    j.p_PJ = Eigen::Vector3d(u(r), u(r), u(r)) * 0.5;
+    j.axis = k % 2 == 0 ? Eigen::Vector3d(Eigen::Vector3d::Unit((k / 2) % 3)) : Eigen::Vector3d(u(r), u(r), u(r));
+    return j.type != LinkJointType::Fixed;
+  });
+}
+
+// Revolute joints about ±x, ±y, ±z, each with a random joint origin and, for about half of them,
+// no rotation in the joint origin (URDF rpy 0 0 0): every joint kernel of Model::joint_kernel
+// other than the generic one. About one in eight joints is fixed (merged).
 inline dynamics::ModelBuilder randomAxisTreeBuilder(std::mt19937& rng, int n) {
   using namespace dynamics;
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::uniform_int_distribution<int> kind(0, 7), axis(0, 5);
-  ModelBuilder b("random_axes");
-  double m;
-  Eigen::Vector3d c;
-  Eigen::Matrix3d I;
-  randomInertia(rng, m, c, I);
-  b.addLink("link0", m, c, I);
-  int links = 1;
-  for (int moving = 0; moving < n;) {
-    std::uniform_int_distribution<int> pick(0, links - 1);
-    JointSpec j;
-    j.parent = "link" + std::to_string(pick(rng));
-    j.child = "link" + std::to_string(links);
-    j.name = "joint" + std::to_string(links);
-    const int k = kind(rng);
+  return randomTree(rng, n, "random_axes", [](std::mt19937& r, JointSpec& j) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int k = std::uniform_int_distribution<int>(0, 7)(r);
     j.type = k == 0 ? LinkJointType::Fixed : k < 4 ? LinkJointType::Revolute : LinkJointType::Continuous;
-    if (j.type != LinkJointType::Fixed) ++moving;
     if (j.type == LinkJointType::Revolute) j.limits = {-2, 2, 10, 100};
-    if (k % 2 == 1) j.R_PJ = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
-    j.p_PJ = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.5;
-    const int a = axis(rng);
+    if (k % 2 == 1) j.R_PJ = Eigen::Quaterniond(u(r), u(r), u(r), u(r)).normalized().toRotationMatrix();
+    j.p_PJ = Eigen::Vector3d(u(r), u(r), u(r)) * 0.5;
+    const int a = std::uniform_int_distribution<int>(0, 5)(r);
     j.axis = Eigen::Vector3d::Unit(a % 3) * (a < 3 ? 1.0 : -1.0);
-    randomInertia(rng, m, c, I);
-    b.addLink(j.child, m, c, I);
-    b.addJoint(j);
-    ++links;
-  }
-  return b;
+    return j.type != LinkJointType::Fixed;
+  });
 }
 
 inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale = 1.0) {
