@@ -20,12 +20,20 @@
 namespace saltus::dynamics {
 
 // The small spatial operations are forced inline: GCC otherwise leaves some of them as calls
-// inside the recursions, which costs more than the arithmetic.
-#define SALTUS_INLINE inline __attribute__((always_inline))
-// On the per-joint lambdas of the kernels (joint.hpp, withJoint). Not on every one: GCC 12 stops
+// inside the recursions, which costs more than the arithmetic. SALTUS_LAMBDA_INLINE likewise
+// on the per-joint lambdas of the kernels (joint.hpp, withJoint). Not on every one: GCC 12 stops
 // with an internal error (gimple_duplicate_bb) on RNEA in nested AD scalars when both of its
 // lambdas are forced.
+// The sanitizer build (SALTUS_NO_FORCED_INLINE, set by SALTUS_SANITIZE) leaves inlining to the
+// compiler: forced into every joint kind's case of the kernels' switches, the instrumented code of
+// the AD translation units took GCC over 7 minutes each at -O1; the arithmetic is the same.
+#ifdef SALTUS_NO_FORCED_INLINE
+#define SALTUS_INLINE inline
+#define SALTUS_LAMBDA_INLINE
+#else
+#define SALTUS_INLINE inline __attribute__((always_inline))
 #define SALTUS_LAMBDA_INLINE __attribute__((always_inline))
+#endif
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
