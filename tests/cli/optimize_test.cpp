@@ -18,11 +18,7 @@ namespace fs = std::filesystem;
 using saltus::testing::readFile;
 using saltus::testing::runSaltus;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("saltus_optimize_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return saltus::testing::scratchPath("optimize_test", name); }
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;

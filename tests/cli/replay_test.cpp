@@ -21,11 +21,7 @@ namespace fs = std::filesystem;
 using saltus::testing::readFile;
 using saltus::testing::runSaltus;
 
-fs::path replayTestDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("saltus_replay_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
+fs::path replayTestDir(const std::string& name) { return saltus::testing::scratchPath("replay_test", name); }
 
 // A solution solved once per program, removed when the program ends.
 struct SolvedDir {

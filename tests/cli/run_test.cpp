@@ -22,11 +22,7 @@ namespace fs = std::filesystem;
 using saltus::testing::readFile;
 using saltus::testing::runSaltus;
 
-fs::path runScratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("saltus_run_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
+fs::path runScratch(const std::string& name) { return saltus::testing::scratchPath("run_test", name); }
 
 // Every Markdown link or image target of the report, e.g. "charts/trajectory.png".
 std::set<std::string> reportTargets(const std::string& report) {
@@ -91,7 +87,7 @@ TEST(CliRun, PointMassDropReportNamesOnlyFilesThatExist) {
     }
   }
 
-  // The trajectory chart: a real PNG and SVG, not a stub.
+  // The trajectory chart: a real PNG and SVG, with content.
   const std::string png = readFile(dir / "charts" / "trajectory.png"), svg = readFile(dir / "charts" / "trajectory.svg");
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   EXPECT_GT(png.size(), 20000u);

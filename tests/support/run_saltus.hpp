@@ -27,6 +27,15 @@ inline std::string shellQuote(const std::string& s) {
   return q + "'";
 }
 
+// A path under the temporary folder for one test's output, "saltus_<suite>_<name>_<pid>", removed
+// if an earlier run left it.
+inline std::filesystem::path scratchPath(const std::string& suite, const std::string& name) {
+  const std::filesystem::path d =
+      std::filesystem::temp_directory_path() / ("saltus_" + suite + "_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  return d;
+}
+
 inline std::string readFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;
