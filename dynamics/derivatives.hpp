@@ -10,6 +10,7 @@
 #include "dynamics/crba.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/rnea.hpp"
+#include "dynamics/tangent.hpp"
 
 #include <unsupported/Eigen/AutoDiff>  // after Eigen/Core
 
@@ -30,10 +31,10 @@ struct DerivativeData {
         data_dual(model_dual),
         data(model),
         q(model.nv()), v(model.nv()), w(model.nv()),
-        dtau_dq(model.nv(), model.nv()), dtau_dv(model.nv(), model.nv()),
+        dtau_dq(MatX<double>::Zero(model.nv(), model.nv())), dtau_dv(MatX<double>::Zero(model.nv(), model.nv())),
         dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()),
-        subtree_end(model.nbodies()), g_n(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()),
-        g_f(model.nbodies(), Eigen::Matrix<double, 3, N>::Zero()), touched(model.nbodies(), false),
+        subtree_end(model.nbodies()), dv(model.nbodies()), da(model.nbodies()), df(model.nbodies()),
+        seed_q(model.nv(), -1), seed_v(model.nv(), -1), Iv(model.nbodies()), touched(model.nbodies(), false),
         active(model.nbodies(), false) {
     // subtree_end[i]: one past the largest body index in the subtree of body i.
     for (int i = 0; i < model.nbodies(); ++i) subtree_end[i] = i + 1;
@@ -53,6 +54,7 @@ struct DerivativeData {
       chunk.velocity[chunk.size] = velocity;
       if (++chunk.size == N) chunks.push_back(chunk), chunk = Chunk{};
     };
+    for (int d = 0; d < N; ++d) unit[d] = tangent::Row<N>::Unit(d);
     for (int k = invariant; k < model.nv(); ++k) {
       add(k, false);
       add(k, true);
@@ -72,15 +74,22 @@ struct DerivativeData {
   Data<Dual<N>> data_dual;
   Data<double> data;            // double workspace (M for ∂τ/∂q̈)
   VecX<Dual<N>> q, v, w;        // seeded inputs (w: q̈ for RNEA, τ for ABA)
-  MatX<double> dtau_dq, dtau_dv;               // RNEA: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = M is data.M)
+  // RNEA: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = M is data.M). rneaDerivatives writes the entries a chunk
+  // reaches, the same ones at every call; the others are structurally zero and set once here.
+  MatX<double> dtau_dq, dtau_dv;
   MatX<double> dqdd_dq, dqdd_dv, dqdd_dtau;    // ABA: ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (= M⁻¹)
 
-  // rneaDerivatives' scratch, per body: subtree extents and the derivative of the force each
-  // ancestor receives from the current chunk (moment and force rows, one column per direction).
+  // rneaDerivatives' scratch. Per body: subtree extents and the tangents of the current chunk
+  // (tangent.hpp) of v_i, a_i and the force f_i; per coordinate: the chunk's direction of q_k
+  // and of q̇_k (−1: none).
   std::vector<int> subtree_end;
-  std::vector<Eigen::Matrix<double, 3, N>, Eigen::aligned_allocator<Eigen::Matrix<double, 3, N>>> g_n, g_f;
-  std::vector<bool> touched;
-  std::vector<bool> active;  // body reached by the current chunk
+  std::vector<tangent::MotionTangent<N>, Eigen::aligned_allocator<tangent::MotionTangent<N>>> dv, da;
+  std::vector<tangent::ForceTangent<N>, Eigen::aligned_allocator<tangent::ForceTangent<N>>> df;
+  std::vector<int> seed_q, seed_v;
+  std::vector<Force<double>> Iv;  // I_i v_i of the double pass
+  tangent::Row<N> unit[N];        // unit[d] = e_dᵀ
+  std::vector<bool> touched;  // an ancestor of the chunk's bodies whose df holds a force tangent
+  std::vector<bool> active;   // body reached by the current chunk
 };
 
 namespace detail {
@@ -113,72 +122,71 @@ void extract(const VecX<Dual<N>>& y, int first, int ndir, MatX<double>* blocks[3
   }
 }
 
-// Mixed double × dual spatial operations: the model's constants (transforms of bodies whose
-// coordinates are not seeded, inertias, joint axes) stay double, so each product with a dual
-// vector costs one scaled derivative instead of the two of a dual × dual product.
-template <class D>
-SALTUS_INLINE Motion<D> apply(const Transform<double>& X, const Motion<D>& m) {  // X m
-  const Vec3<D> v = m.v - X.r.cross(m.w);
-  return {X.E * m.w, X.E * v};
-}
-template <class D>
-SALTUS_INLINE Force<D> applyTranspose(const Transform<double>& X, const Force<D>& f) {  // Xᵀ f
-  const Vec3<D> ff = X.E.transpose() * f.f;
-  const Vec3<D> n = X.E.transpose() * f.n;
-  return {n + X.r.cross(ff), ff};
-}
-template <class D>
-SALTUS_INLINE Motion<D> plus(const Motion<D>& a, const Motion<double>& b) {
-  return {a.w + b.w, a.v + b.v};
-}
-template <class D>
-SALTUS_INLINE Motion<D> cross(const Motion<D>& a, const Motion<double>& b) {  // crm(a) b
-  return {a.w.cross(b.w), a.w.cross(b.v) + a.v.cross(b.w)};
-}
-template <class D>
-SALTUS_INLINE Force<D> times(const RigidInertia<double>& I, const Motion<D>& v) {  // I v (RBDA 2.62)
-  return {I.I * v.w + I.h.cross(v.v), I.m * v.v - I.h.cross(v.w)};
-}
-// f = I a + v ×* I v (RBDA 5.9) with a double inertia.
-template <class D>
-SALTUS_INLINE Force<D> bodyForce(const RigidInertia<double>& I, const Motion<D>& a, const Motion<D>& v) {
-  const Force<D> Iv = times(I, v);
-  const Force<D> Ia = times(I, a);
-  return {Ia.n + v.w.cross(Iv.n) + v.v.cross(Iv.f), Ia.f + v.w.cross(Iv.f)};
-}
-// Derivative row of S_iᵀ f for a one-coordinate joint with the double model's axis.
+// The floating base's outward step in rneaDerivatives (body 0, whose S_0(q) and c_J depend on
+// q: joint.hpp), in scalar dual numbers seeded with the chunk's directions on its coordinates:
+// the tangents of v_0 = S_0 q̇_0 and a_0 = ^0X_world a_world + S_0 q̈_0 + c_J into dd.dv[0],
+// dd.da[0]. S_0 stays in dd.data_dual.S_joint for floatingBaseInward.
 template <int N>
-SALTUS_INLINE Eigen::Matrix<double, 1, N> jointForceDerivative(const Model<double>& model, int i, const Force<Dual<N>>& f) {
-  const Vec3<Dual<N>>& x = model.joint_type[i] == JointType::Revolute ? f.n : f.f;
-  const int k = model.axis_kind[i];
-  if (k >= 0) return x[k].derivatives().transpose();
-  const Vec3<double>& a = model.axis[i];
-  return (a[0] * x[0].derivatives() + a[1] * x[1].derivatives() + a[2] * x[2].derivatives()).transpose();
+void floatingBaseForward(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
+                         const VecRef<double>& v, const VecRef<double>& a) {
+  using D = Dual<N>;
+  const Model<D>& mdual = dd.model_dual;
+  D qi[6], qdi[6], qddi[6];
+  for (int c = 0; c < model.num_coordinates[0]; ++c) {
+    qi[c] = D(q[c]), qdi[c] = D(v[c]), qddi[c] = D(a[c]);
+    if (dd.seed_q[c] >= 0) qi[c].derivatives()[dd.seed_q[c]] = 1.0;
+    if (dd.seed_v[c] >= 0) qdi[c].derivatives()[dd.seed_v[c]] = 1.0;
+  }
+  Motion<D>* S0 = dd.data_dual.S_joint.data();
+  const Transform<D> X = multiJointTransformUp(mdual, 0, qi, S0);
+  const Motion<D> vJ = multiJointVelocity(mdual, 0, S0, qdi);
+  const Motion<D> a_world{Vec3<D>::Zero(), -mdual.gravity};
+  const Motion<D> a0 = X.apply(a_world) + multiJointVelocity(mdual, 0, S0, qddi) + multiJointBias(mdual, 0, S0, qdi, vJ);
+  for (int r = 0; r < 3; ++r) {
+    dd.dv[0].w.row(r) = vJ.w[r].derivatives().transpose();
+    dd.dv[0].v.row(r) = vJ.v[r].derivatives().transpose();
+    dd.da[0].w.row(r) = a0.w[r].derivatives().transpose();
+    dd.da[0].v.row(r) = a0.v[r].derivatives().transpose();
+  }
+}
+
+// The floating base's inward step: the derivative rows of τ_0 = S_0(q)ᵀ f_0 into rows[0 .. n_0),
+// with the value of f_0 from dd.data and its tangent from dd.df[0].
+template <int N>
+void floatingBaseInward(const Model<double>& model, DerivativeData<N>& dd, tangent::Row<N>* rows) {
+  using D = Dual<N>;
+  const Force<double>& f = dd.data.f[0];
+  Force<D> fd;
+  for (int r = 0; r < 3; ++r) {
+    fd.n[r] = D(f.n[r], dd.df[0].n.row(r).transpose());
+    fd.f[r] = D(f.f[r], dd.df[0].f.row(r).transpose());
+  }
+  D tau[6];
+  multiJointForce(dd.model_dual, 0, dd.data_dual.S_joint.data(), fd, tau);
+  for (int c = 0; c < model.num_coordinates[0]; ++c) rows[c] = tau[c].derivatives().transpose();
 }
 }  // namespace detail
 
 // ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈) into dd.dtau_dq, dd.dtau_dv; ∂τ/∂q̈ = M(q) into
 // dd.data.M (CRBA: RNEA is linear in q̈).
 //
+// Forward-mode AD of RNEA (RBDA Table 5.1) with the spatial operations as elementary operations
+// (tangent.hpp): one double RNEA pass gives every value, then each chunk of N directions
+// (dd.chunks: q_j and q̇_j of consecutive coordinates) runs RNEA's recursions on tangents only.
 // A direction q_j or q̇_j changes the outward recursion only in the subtree of j's body and the
-// inward one only there and along its ancestors. Each chunk takes N consecutive directions
-// (dd.chunks), runs the outward and inward steps in dual numbers over the bodies the chunk
-// reaches, and carries the derivative of the force transmitted to the ancestors as a plain
-// 6 × N matrix; everything else keeps the values of one double RNEA pass.
+// inward one only there and along its ancestors, so a chunk visits those bodies alone. The
+// floating base's joint, whose S_i(q) and c_J depend on q, goes through the scalar dual numbers
+// of aba() instead (model_dual), once per chunk that moves it.
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
-  using D = Dual<N>;
-  using DerN = Eigen::Matrix<double, 3, N>;
-  using RowN = Eigen::Matrix<double, 1, N>;
+  using MotionT = tangent::MotionTangent<N>;
+  using ForceT = tangent::ForceTangent<N>;
+  using RowN = tangent::Row<N>;
   Data<double>& dat = dd.data;
-  Data<D>& dual = dd.data_dual;
-  const Model<D>& mdual = dd.model_dual;
-  rnea(model, dat, q, v, a);  // values of every body
-  dd.dtau_dq.setZero();
-  dd.dtau_dv.setZero();
-  const Motion<double> a0{Vec3<double>::Zero(), -model.gravity};
-  auto promote = [](const Motion<double>& m) { return Motion<D>{m.w.template cast<D>(), m.v.template cast<D>()}; };
+  rnea(model, dat, q, v, a);  // values of every body; dat.f[i] is the total force across joint i
+  for (int i = 0; i < model.nbodies(); ++i) dd.Iv[i] = model.inertia[i] * dat.v[i];
+  const Motion<double> a_world{Vec3<double>::Zero(), -model.gravity};  // a_0 = −a_g
   for (const auto& chunk : dd.chunks) {
     // Bodies [b0, b1] hold the chunk's coordinates; the active bodies are those and their
     // subtrees, [b0, end) less the bodies below an ancestor of b0 (their derivatives are zero).
@@ -186,133 +194,104 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
     const int b1 = model.coordinate_body[chunk.coordinate[chunk.size - 1]];
     int end = b1 + 1;
     for (int b = b0; b <= b1; ++b) end = std::max(end, dd.subtree_end[b]);
-    // Outward over the active bodies (RBDA 5.7–5.9 in dual numbers).
-    for (int i = b0; i < end; ++i) {
-      if (i > b1 && !(model.parent[i] >= b0 && dd.active[model.parent[i]])) {
-        dd.active[i] = false;
-        continue;
-      }
-      dd.active[i] = true;
-      const int p = model.parent[i], k0 = model.first_coordinate[i], nc = model.num_coordinates[i];
-      Motion<D> vi, ai;
-      if (i <= b1) {
-        // A body holding seeded coordinates: its joint transform is dual (model_dual's jcalc).
-        D qi[6], qdi[6];
-        for (int c = 0; c < nc; ++c) {
-          qi[c] = D(q[k0 + c]);
-          qdi[c] = D(v[k0 + c]);
-        }
-        for (int d = 0; d < chunk.size; ++d) {
-          const int c = chunk.coordinate[d] - k0;
-          if (c >= 0 && c < nc) (chunk.velocity[d] ? qdi[c] : qi[c]).derivatives()[d] = 1.0;
-        }
-        Motion<D> vJ, aJ;
-        if (nc == 1) {
-          dual.X_up[i] = jointTransformUp(mdual, i, qi[0]);
-          vJ = jointVelocity(mdual, i, qdi[0]);
-          aJ = promote(jointVelocity(model, i, a[k0]));
-        } else {
-          Motion<D>* Scol = &dual.S_joint[k0];
-          dual.X_up[i] = multiJointTransformUp(mdual, i, qi, Scol);
-          vJ = multiJointVelocity(mdual, i, Scol, qdi);
-          D ad[6];
-          for (int c = 0; c < nc; ++c) ad[c] = D(a[k0 + c]);
-          aJ = multiJointVelocity(mdual, i, Scol, ad) + multiJointBias(mdual, i, Scol, qdi, vJ);
-        }
-        const Transform<D>& X = dual.X_up[i];
-        if (p < 0) {
-          vi = vJ;
-          ai = X.apply(promote(a0)) + aJ;
-        } else {
-          const bool dual_parent = p >= b0;
-          vi = X.apply(dual_parent ? dual.v[p] : promote(dat.v[p])) + vJ;
-          ai = X.apply(dual_parent ? dual.a_gf[p] : promote(dat.a_gf[p])) + aJ + vi.cross(vJ);
-        }
-      } else {
-        // Below the chunk: the joint is constant (double transform and S), the parent is dual.
-        const Transform<double>& X = dat.X_up[i];
-        Motion<double> vJ, aJ;
-        if (nc == 1) {
-          vJ = jointVelocity(model, i, v[k0]);
-          aJ = jointVelocity(model, i, a[k0]);
-        } else {
-          vJ = multiJointVelocity(model, i, &dat.S_joint[k0], v.data() + k0);
-          aJ = multiJointVelocity(model, i, &dat.S_joint[k0], a.data() + k0) +
-               multiJointBias(model, i, &dat.S_joint[k0], v.data() + k0, vJ);
-        }
-        vi = detail::plus(detail::apply(X, dual.v[p]), vJ);
-        ai = detail::plus(detail::apply(X, dual.a_gf[p]), aJ) + detail::cross(vi, vJ);
-      }
-      dual.v[i] = vi;
-      dual.a_gf[i] = ai;
-      dual.f[i] = model.massless[i] ? Force<D>::Zero() : detail::bodyForce(model.inertia[i], ai, vi);
-    }
-    // Inward over the same bodies; forces leaving the range go to dd.g_n/g_f of the ancestor.
+    for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.seed_v : dd.seed_q)[chunk.coordinate[d]] = d;
     auto store = [&](int k, const RowN& dtau) {
       for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.dtau_dv : dd.dtau_dq)(k, chunk.coordinate[d]) = dtau[d];
     };
+
+    // Outward: tangents of v_i, a_i and of the body force I_i a_i + v_i ×* I_i v_i (RBDA 5.7–5.9).
+    for (int i = b0; i < end; ++i) {
+      const int p = model.parent[i];
+      const bool parent_active = p >= b0 && dd.active[p];
+      dd.active[i] = i <= b1 || parent_active;
+      if (!dd.active[i]) continue;
+      MotionT& dv = dd.dv[i];
+      MotionT& da = dd.da[i];
+      if (model.num_coordinates[i] > 1) {
+        detail::floatingBaseForward(model, dd, q, v, a);
+      } else {
+        const int k = model.first_coordinate[i], dq = dd.seed_q[k], dqd = dd.seed_v[k];
+        withEvaluatedJoint(model, dat.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+          if (parent_active) {
+            dv = tangent::apply(X, dd.dv[p]);
+            da = tangent::apply(X, dd.da[p]);
+          } else {
+            dv.setZero();
+            da.setZero();
+          }
+          const Motion<double> S = motionSubspace(model, i);
+          if (dq >= 0) {  // ∂(^iX_λ m)/∂q_i = −S_i × ^iX_λ m = ^iX_λ m × S_i, with m = v_λ and a_λ
+            if (p >= 0) dv.addColumn(dd.unit[dq], X.apply(dat.v[p]).cross(S));
+            da.addColumn(dd.unit[dq], X.apply(p < 0 ? a_world : dat.a_gf[p]).cross(S));
+          }
+          if (dqd >= 0) dv.addColumn(dd.unit[dqd], S);  // ∂(S_i q̇_i)/∂q̇_i
+          // a_i += v_i × S_i q̇_i: its tangent dv_i × S_i q̇_i, and v_i × S_i along q̇_i.
+          const MotionT dc = tangent::crossJointVelocity(dv, Si, v[k]);
+          da.w += dc.w;
+          da.v += dc.v;
+          if (dqd >= 0) da.addColumn(dd.unit[dqd], dat.v[i].cross(S));
+        });
+      }
+      ForceT& df = dd.df[i];
+      if (model.massless[i]) {
+        df.setZero();
+      } else {
+        const RigidInertia<double>& I = model.inertia[i];
+        df = tangent::inertiaTimes(I, da);
+        df += tangent::crossForceBoth(dat.v[i], dv, dd.Iv[i], tangent::inertiaTimes(I, dv));
+      }
+    }
+
+    // Inward over the same bodies: τ_i = S_iᵀ f_i and f_λ += ^iX_λᵀ f_i. The tangent of the force
+    // passed to an ancestor of b0 collects in dd.df of that ancestor (dd.touched).
     for (int i = end - 1; i >= b0; --i) {
       if (!dd.active[i]) continue;
       const int p = model.parent[i];
-      Force<D> F;
-      if (i <= b1) {
-        D tau_i[6];
-        jointForces(mdual, dual, i, dual.f[i], tau_i);
-        for (int c = 0; c < model.num_coordinates[i]; ++c)
-          store(model.first_coordinate[i] + c, tau_i[c].derivatives().transpose());
-        if (p < 0) continue;
-        F = dual.X_up[i].applyTranspose(dual.f[i]);
-      } else {
-        if (model.num_coordinates[i] == 1) {
-          store(model.first_coordinate[i], detail::jointForceDerivative<N>(model, i, dual.f[i]));
+      if (model.num_coordinates[i] > 1) {  // the floating base (i = 0): no parent
+        RowN rows[6];
+        detail::floatingBaseInward(model, dd, rows);
+        for (int c = 0; c < model.num_coordinates[i]; ++c) store(c, rows[c]);
+        continue;
+      }
+      const int k = model.first_coordinate[i], dq = dd.seed_q[k];
+      withEvaluatedJoint(model, dat.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+        store(k, tangent::project(Si, dd.df[i]));
+        if (p < 0) return;
+        ForceT up = tangent::applyTranspose(X, dd.df[i]);
+        // ∂(^iX_λᵀ f)/∂q_i = ^iX_λᵀ (S_i ×* f)
+        if (dq >= 0) up.addColumn(dd.unit[dq], X.applyTranspose(motionSubspace(model, i).crossForce(dat.f[i])));
+        if (p >= b0 || dd.touched[p]) {
+          dd.df[p] += up;
         } else {
-          for (int c = 0, k = model.first_coordinate[i]; c < model.num_coordinates[i]; ++c, ++k) {
-            const Motion<double>& sk = dat.S_joint[k];
-            RowN row = RowN::Zero();
-            for (int r = 0; r < 3; ++r)
-              row += sk.w[r] * dual.f[i].n[r].derivatives().transpose() + sk.v[r] * dual.f[i].f[r].derivatives().transpose();
-            store(k, row);
-          }
+          dd.df[p] = up;
+          dd.touched[p] = true;
         }
-        F = detail::applyTranspose(dat.X_up[i], dual.f[i]);
-      }
-      if (p >= b0) {
-        dual.f[p] += F;
-      } else {
-        for (int r = 0; r < 3; ++r) {
-          dd.g_n[p].row(r) += F.n[r].derivatives().transpose();
-          dd.g_f[p].row(r) += F.f[r].derivatives().transpose();
-        }
-        dd.touched[p] = true;
-      }
+      });
     }
-    // Ancestors: ∂τ_p = S_pᵀ ∂f_p, and ∂f_λ(p) += ^pX_λᵀ ∂f_p with the constant double transform.
+
+    // Ancestors of b0: their joints are constant, so ∂τ_p = S_pᵀ ∂f_p and ∂f_λ(p) += ^pX_λᵀ ∂f_p.
     for (int p = b0 - 1; p >= 0; --p) {
       if (!dd.touched[p]) continue;
-      const DerN& gn = dd.g_n[p];
-      const DerN& gf = dd.g_f[p];
-      if (model.num_coordinates[p] == 1) {
-        const int k = model.axis_kind[p];
-        const DerN& along = model.joint_type[p] == JointType::Revolute ? gn : gf;
-        store(model.first_coordinate[p], k >= 0 ? RowN(along.row(k)) : RowN(model.axis[p].transpose() * along));
-      } else {
-        for (int c = 0, k = model.first_coordinate[p]; c < model.num_coordinates[p]; ++c, ++k) {
-          const Motion<double>& s = dat.S_joint[k];
-          store(k, s.w.transpose() * gn + s.v.transpose() * gf);
-        }
-      }
-      const int pp = model.parent[p];
-      if (pp >= 0) {
-        const Transform<double>& X = dat.X_up[p];
-        const DerN f_up = X.E.transpose() * gf;
-        dd.g_f[pp] += f_up;
-        dd.g_n[pp] += X.E.transpose() * gn + skew(X.r) * f_up;
-        dd.touched[pp] = true;
-      }
-      dd.g_n[p].setZero();
-      dd.g_f[p].setZero();
       dd.touched[p] = false;
+      const int pp = model.parent[p];
+      if (model.num_coordinates[p] > 1) {
+        for (int c = 0, k = model.first_coordinate[p]; c < model.num_coordinates[p]; ++c, ++k)
+          store(k, tangent::project(dat.S_joint[k], dd.df[p]));
+        continue;  // the base: no parent
+      }
+      withEvaluatedJoint(model, dat.X_up[p], p, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+        store(model.first_coordinate[p], tangent::project(Si, dd.df[p]));
+        if (pp < 0) return;
+        const ForceT up = tangent::applyTranspose(X, dd.df[p]);
+        if (dd.touched[pp]) {
+          dd.df[pp] += up;
+        } else {
+          dd.df[pp] = up;
+          dd.touched[pp] = true;
+        }
+      });
     }
+    for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.seed_v : dd.seed_q)[chunk.coordinate[d]] = -1;
   }
   crba(model, dat, q);  // the base translation columns of dtau_dq, dtau_dv stay zero (DerivativeData)
 }

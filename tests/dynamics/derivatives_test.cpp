@@ -5,6 +5,8 @@
 
 #include <Eigen/LU>
 
+#include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 #include "tests/support/random_model.hpp"
 
 namespace saltus::dynamics {
@@ -44,6 +46,57 @@ TEST(Derivatives, RneaMatchesFiniteDifferences) {
       EXPECT_LT(relativeError(dd.dtau_dv, finiteDifference(tau_v, v)), 1e-7) << toString(base) << " n=" << n;
       EXPECT_LT(relativeError(dd.data.M, finiteDifference(tau_a, a)), 1e-7) << toString(base) << " n=" << n;
     }
+  }
+}
+
+// ∂τ/∂q, ∂τ/∂q̇ by scalar dual numbers through rnea() itself (Eigen::AutoDiffScalar, every
+// direction seeded, chunks of 8), an AD independent of rneaDerivatives' spatial-operation tangents
+// (tangent.hpp), its chunks over subtrees and its floating-base step.
+void expectRneaDerivativesMatchScalarDuals(const Model<double>& model, const Eigen::VectorXd& q,
+                                           const Eigen::VectorXd& v, const Eigen::VectorXd& a, const std::string& what) {
+  DerivativeData<8> dd(model);
+  rneaDerivatives(model, dd, a, q, v);  // another state first: the workspace must not leak into the next call
+  rneaDerivatives(model, dd, q, v, a);
+  const int n = model.nv();
+  Data<Dual<8>> dual(dd.model_dual);
+  VecX<Dual<8>> qd(n), vd(n), ad(n);
+  Eigen::MatrixXd dtau_dq(n, n), dtau_dv(n, n), dtau_da(n, n);
+  MatX<double>* blocks[3] = {&dtau_dq, &dtau_dv, &dtau_da};
+  for (int first = 0; first < 3 * n; first += 8) {
+    detail::seed<8>(qd, vd, ad, q, v, a, first);
+    detail::extract<8>(rnea(dd.model_dual, dual, qd, vd, ad), first, 3 * n, blocks);
+  }
+  EXPECT_LT(relativeError(dd.dtau_dq, dtau_dq), 1e-12) << what;
+  EXPECT_LT(relativeError(dd.dtau_dv, dtau_dv), 1e-12) << what;
+  EXPECT_LT(relativeError(dd.data.M, dtau_da), 1e-12) << what;
+}
+
+TEST(Derivatives, RneaMatchesScalarDualNumbersOnRandomTrees) {
+  std::mt19937 rng(73);
+  for (BaseType base : {BaseType::Fixed, BaseType::Planar, BaseType::Free}) {
+    for (int nj : {1, 4, 13}) {
+      // General axes, prismatic and fixed joints; then revolute axis joints (joint.hpp's kernels).
+      for (bool axis_joints : {false, true}) {
+        const Model<double> model = (axis_joints ? testing::randomAxisTreeBuilder(rng, nj)
+                                                 : testing::randomTreeBuilder(rng, nj)).build(base);
+        const int n = model.nv();
+        expectRneaDerivativesMatchScalarDuals(model, testing::randomVector(rng, n), testing::randomVector(rng, n),
+                                              testing::randomVector(rng, n),
+                                              std::string(toString(base)) + " n=" + std::to_string(n) + (axis_joints ? " axis" : ""));
+      }
+    }
+  }
+}
+
+TEST(Derivatives, RneaMatchesScalarDualNumbersOnBenchmarkModels) {
+  std::mt19937 rng(74);
+  for (const char* name : {"iiwa", "hyq", "atlas"}) {
+    const BaseType base = std::string(name) == "iiwa" ? BaseType::Fixed : BaseType::Free;
+    const Model<double> model =
+        loadUrdfFile(std::string(SALTUS_SOURCE_DIR) + "/models/benchmark/" + name + ".urdf", base);
+    const int n = model.nv();
+    expectRneaDerivativesMatchScalarDuals(model, testing::randomVector(rng, n), testing::randomVector(rng, n),
+                                          testing::randomVector(rng, n), name);
   }
 }
 
