@@ -32,7 +32,7 @@ struct Data {
   VecX<S> tau;                  // RNEA result
 
   // Composite rigid bodies (CRBA, RBDA Table 6.2).
-  std::vector<RigidInertia<S>> Ic;  // composite inertias, body coordinates
+  std::vector<RigidInertia<S>> Ic;  // composite inertias, in the turned frames B'_i (Model::turned_frame)
   std::vector<Force<S>> F_column;   // per one-coordinate body i: I^c_i S_i carried up towards the root
   MatX<S> M;  // joint-space inertia matrix, both triangles filled
 

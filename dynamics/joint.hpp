@@ -265,6 +265,46 @@ SALTUS_INLINE void withEvaluatedJoint(const Model<S>& model, const Transform<S>&
   fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
 }
 
+// The same from the turned frame B'_λ of the parent to body i's B'_i (model.hpp, TurnedFrame): an
+// axis joint whose X_T rotation is a signed permutation is the axis form about σ' e_K' with cos q
+// and σ' sin q read off X_up (^iX_λ); any other joint is in the general form of ^iX_λ rot(Q_λᵀ)
+// (just ^iX_λ when B'_λ = B_λ), with its S_i.
+template <class S, class Fn>
+SALTUS_INLINE void withTurnedJoint(const Model<S>& model, const Transform<S>& X_up, int i, Fn&& fn) {
+  const TurnedFrame<S>& t = model.turned_frame[i];
+  if (t.turned) {
+    const S c = t.cos_sign * X_up.E(t.cos_row, t.cos_col), s = t.sin_sign * X_up.E(t.cos_row, t.sin_col);
+    switch (t.kernel) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kAxisJoint + K:                                                                 \
+    fn(AxisTransform<S, K>{c, s, t.r_T}, AxisSubspace<S, K>{t.sign});                  \
+    return;
+      SALTUS_AXIS_CASE(0)
+      SALTUS_AXIS_CASE(1)
+      SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+    }
+  }
+  const Transform<S>* X = &X_up;
+  Transform<S> X_turned;
+  if (t.parent_turned) {  // ^iX_λ' = ^iX_λ ^λX_λ' with ^λX_λ' = rot(Q_λᵀ)
+    X_turned = X_up * Transform<S>{model.turned_frame[model.parent[i]].Q.transpose(), Vec3<S>::Zero()};
+    X = &X_turned;
+  }
+  const S& sign = model.axis_sign[i];
+  switch (model.joint_kernel[i]) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kRotatedAxisJoint + K:                                                          \
+    fn(GeneralTransform<S>{*X}, AxisSubspace<S, K>{sign});                             \
+    return;
+    SALTUS_AXIS_CASE(0)
+    SALTUS_AXIS_CASE(1)
+    SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+  }
+  fn(GeneralTransform<S>{*X}, GenericSubspace<S>{model, i});
+}
+
 // ---------------------------------------------------------------------------------------------
 // Multi-coordinate joints: the floating bases (model.hpp, BaseType), with v = q̇, so the motion
 // subspace S_i(q) (6 × n_i, body coordinates) depends on the configuration (RBDA 4.4: v_J = S q̇,
