@@ -74,8 +74,7 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
   // registers of the loop below); I^c_i starts as I_i.
   if (b) updateJointTransform(model, data, 0, q);
-  for (int i = b; i < nb; ++i)
-    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
+  updateOneCoordinateJointTransforms(model, data, q);
   for (int i = 0; i < nb; ++i) data.Ic[i] = model.turned_frame[i].inertia;
   MatX<S>& M = data.M;
   Force<S>* F = data.F_column.data();

@@ -212,15 +212,13 @@ SALTUS_INLINE void storeRotatedAxisTransform(const Transform<S>& XT, const S& c,
 // and calls fn(X, Si) with the transform and the motion subspace in the forms of its
 // Model::joint_kernel. The switch on the kernel is taken once per body; fn is instantiated for
 // each form.
+// withJointAt takes cos q and sin q (axis joints) computed beforehand.
 template <class S, class Fn>
-SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, const S& q, Fn&& fn) {
-  using std::cos;
-  using std::sin;
+SALTUS_INLINE void withJointAt(const Model<S>& model, Transform<S>& X_up, int i, const S& q, const S& c,
+                               const S& sin_q, Fn&& fn) {
   const int kernel = model.joint_kernel[i];
   if (kernel < kGenericJoint) {
-    S c, s;
-    sinCos(q, s, c);
-    s *= model.axis_sign[i];
+    const S s = sin_q * model.axis_sign[i];
     const S& sign = model.axis_sign[i];
     switch (kernel) {
 #define SALTUS_AXIS_CASE(K)                                                            \
@@ -243,6 +241,12 @@ SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, c
   }
   X_up = jointTransformUp(model, i, q);
   fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
+}
+template <class S, class Fn>
+SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, const S& q, Fn&& fn) {
+  S c(1), s(0);
+  if (model.joint_kernel[i] < kGenericJoint) sinCos(q, s, c);
+  withJointAt(model, X_up, i, q, c, s, fn);
 }
 
 // The same for a joint already evaluated: the forms are read back from X_up (^iX_λ).
