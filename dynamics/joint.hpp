@@ -211,8 +211,7 @@ SALTUS_INLINE void storeRotatedAxisTransform(const Transform<S>& XT, const S& c,
 // Evaluates body i's one-coordinate joint at q (jcalc, RBDA 4.4), stores ^iX_λ in data X_up[i]
 // and calls fn(X, Si) with the transform and the motion subspace in the forms of its
 // Model::joint_kernel. The switch on the kernel is taken once per body; fn is instantiated for
-// each form.
-// withJointAt takes cos q and sin q (axis joints) computed beforehand.
+// each form. withJointAt takes cos q and sin q (used by the axis joints) computed beforehand.
 template <class S, class Fn>
 SALTUS_INLINE void withJointAt(const Model<S>& model, Transform<S>& X_up, int i, const S& q, const S& c,
                                const S& sin_q, Fn&& fn) {
