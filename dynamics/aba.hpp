@@ -235,8 +235,7 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
   if (b) detail::abaMultiJointOutwardVelocity(model, data, q, v);
   // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
   // registers of the loop below).
-  for (int i = b; i < nb; ++i)
-    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
+  updateOneCoordinateJointTransforms(model, data, q);
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
     withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {

@@ -275,7 +275,8 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     model.axis_kind.push_back(axisKind(bp.axis));
     const RigidInertia<double>& I = model.inertia[b];
     model.massless.push_back(I.m == 0 && I.h.isZero(0) && I.I.isZero(0));
-    model.X_tree.push_back({bp.R_PJ.transpose(), bp.p_PJ});  // parent coords -> joint coords
+    // Parent coordinates -> joint coordinates; multiples of π/2 made exact (snapToSignedPermutation).
+    model.X_tree.push_back({snapToSignedPermutation(bp.R_PJ.transpose()), bp.p_PJ});
     model.body_name.push_back(bp.body_name);
     model.num_coordinates.push_back(static_cast<int>(bp.coordinate_names.size()));
     for (const std::string& c : bp.coordinate_names) {

@@ -4,9 +4,12 @@
 // carried up the path to the root with F ← ^jX_λ(j)ᵀ F, and M_kl = S_jᵀ F for the coordinates l
 // of each body j on the way (RBDA 6.19, 6.20).
 //
-// For an axis joint (joint.hpp: a revolute joint about ±e_K) S_i picks a column or a component:
-// I^c_i S_i is a column of the composite inertia and S_jᵀ F a component of F, and the transforms
-// of axis joints with no X_T rotation act as a plane rotation and a cross product.
+// M(q) does not depend on the coordinates each body's quantities are expressed in, so the
+// recursion runs in the turned body frames B'_i of model.turned_frame (model.hpp, TurnedFrame), in
+// which a revolute joint about ±e_K whose X_T rotation is a signed permutation (as URDF rpy of
+// multiples of π/2 give) has no X_T rotation. For such an axis joint (joint.hpp) S_i picks a column
+// or a component: I^c_i S_i is a column of the composite inertia and S_jᵀ F a component of F, and
+// ^iX_λ acts as a plane rotation and a cross product.
 #pragma once
 
 #include <type_traits>
@@ -53,10 +56,11 @@ SALTUS_INLINE void addInertiaToParent(const XForm& X, const RigidInertia<S>& I, 
 }
 }  // namespace detail
 
-// Fills data.M (both triangles), data.X_up, data.Ic (composite inertias, body coordinates),
-// data.F_column and, for a multi-coordinate joint, its S_i(q) in data.S_joint. data.X_world is
-// not set (use forwardKinematics for the poses). Entries between bodies on different branches
-// are structurally zero: Data sets them once.
+// Fills data.M (both triangles), data.X_up (in the body frames, for the other algorithms),
+// data.Ic (composite inertias) and data.F_column (both in the turned frames B'_i) and, for a
+// multi-coordinate joint, its S_i(q) in data.S_joint. data.X_world is not set (use
+// forwardKinematics for the poses). Entries between bodies on different branches are
+// structurally zero: Data sets them once.
 //
 // The columns travel up together: at body j, every column F_k of j's subtree (bodies numbered
 // depth first: [j, subtree_end[j])) gives M_jk = S_jᵀ F_k and moves on to λ(j). The columns are
@@ -70,15 +74,14 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   // Joint transforms (jcalc) in a loop of their own (its libm calls would otherwise spill the
   // registers of the loop below); I^c_i starts as I_i.
   if (b) updateJointTransform(model, data, 0, q);
-  for (int i = b; i < nb; ++i)
-    withJoint(model, data.X_up[i], i, q[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
-  for (int i = 0; i < nb; ++i) data.Ic[i] = model.inertia[i];
+  updateOneCoordinateJointTransforms(model, data, q);
+  for (int i = 0; i < nb; ++i) data.Ic[i] = model.turned_frame[i].inertia;
   MatX<S>& M = data.M;
   Force<S>* F = data.F_column.data();
   // Leaves to root.
   for (int i = nb - 1; i >= b; --i) {
     const int p = model.parent[i], k = i + off, end = model.subtree_end[i];
-    withEvaluatedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
+    withTurnedJoint(model, data.X_up[i], i, [&](const auto& X, const auto& Si) SALTUS_LAMBDA_INLINE {
       F[i] = Si.inertiaTimes(data.Ic[i]);  // F = I^c_i S_i (RBDA 6.19)
       M(k, k) = Si.project(F[i]);
       for (int j = i + 1; j < end; ++j) M(k, j + off) = M(j + off, k) = Si.project(F[j]);  // RBDA 6.20

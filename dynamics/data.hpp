@@ -21,6 +21,7 @@ struct Data {
   // X_up).
   std::vector<Motion<S>> S_joint;
   std::vector<Transform<S>> X_up;     // ^iX_λ(i): parent coordinates -> body i coordinates
+  VecX<S> cos_q, sin_q;               // per body: cos, sin of a one-coordinate joint's q (double kernels' jcalc)
   std::vector<Transform<S>> X_world;  // ^iX_0: world -> body i; E = R_WBᵀ, r = p_WB (origin in world)
   std::vector<Motion<S>> v;           // body spatial velocity, body coordinates
   std::vector<Motion<S>> a;           // body spatial acceleration, body coordinates (forwardKinematics)
@@ -32,7 +33,7 @@ struct Data {
   VecX<S> tau;                  // RNEA result
 
   // Composite rigid bodies (CRBA, RBDA Table 6.2).
-  std::vector<RigidInertia<S>> Ic;  // composite inertias, body coordinates
+  std::vector<RigidInertia<S>> Ic;  // composite inertias, in the turned frames B'_i (Model::turned_frame)
   std::vector<Force<S>> F_column;   // per one-coordinate body i: I^c_i S_i carried up towards the root
   MatX<S> M;  // joint-space inertia matrix, both triangles filled
 
@@ -63,6 +64,8 @@ Data<S>::Data(const Model<S>& model) {
     if (model.num_coordinates[i] == 1) S_joint[model.first_coordinate[i]] = motionSubspace(model, i);
   X_up.assign(nb, Xnan);
   X_world.assign(nb, Xnan);
+  cos_q = VecX<S>::Constant(nb, nan);
+  sin_q = VecX<S>::Constant(nb, nan);
   v.assign(nb, mnan);
   a.assign(nb, mnan);
   a_bias.assign(nb, mnan);

@@ -211,16 +211,13 @@ SALTUS_INLINE void storeRotatedAxisTransform(const Transform<S>& XT, const S& c,
 // Evaluates body i's one-coordinate joint at q (jcalc, RBDA 4.4), stores ^iX_λ in data X_up[i]
 // and calls fn(X, Si) with the transform and the motion subspace in the forms of its
 // Model::joint_kernel. The switch on the kernel is taken once per body; fn is instantiated for
-// each form.
+// each form. withJointAt takes cos q and sin q (used by the axis joints) computed beforehand.
 template <class S, class Fn>
-SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, const S& q, Fn&& fn) {
-  using std::cos;
-  using std::sin;
+SALTUS_INLINE void withJointAt(const Model<S>& model, Transform<S>& X_up, int i, const S& q, const S& c,
+                               const S& sin_q, Fn&& fn) {
   const int kernel = model.joint_kernel[i];
   if (kernel < kGenericJoint) {
-    S c, s;
-    sinCos(q, s, c);
-    s *= model.axis_sign[i];
+    const S s = sin_q * model.axis_sign[i];
     const S& sign = model.axis_sign[i];
     switch (kernel) {
 #define SALTUS_AXIS_CASE(K)                                                            \
@@ -244,6 +241,12 @@ SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, c
   X_up = jointTransformUp(model, i, q);
   fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
 }
+template <class S, class Fn>
+SALTUS_INLINE void withJoint(const Model<S>& model, Transform<S>& X_up, int i, const S& q, Fn&& fn) {
+  S c(1), s(0);
+  if (model.joint_kernel[i] < kGenericJoint) sinCos(q, s, c);
+  withJointAt(model, X_up, i, q, c, s, fn);
+}
 
 // The same for a joint already evaluated: the forms are read back from X_up (^iX_λ).
 template <class S, class Fn>
@@ -263,6 +266,46 @@ SALTUS_INLINE void withEvaluatedJoint(const Model<S>& model, const Transform<S>&
 #undef SALTUS_AXIS_CASE
   }
   fn(GeneralTransform<S>{X_up}, GenericSubspace<S>{model, i});
+}
+
+// The same from the turned frame B'_λ of the parent to body i's B'_i (model.hpp, TurnedFrame): an
+// axis joint whose X_T rotation is a signed permutation is the axis form about σ' e_K' with cos q
+// and σ' sin q read off X_up (^iX_λ); any other joint is in the general form of ^iX_λ rot(Q_λᵀ)
+// (just ^iX_λ when B'_λ = B_λ), with its S_i.
+template <class S, class Fn>
+SALTUS_INLINE void withTurnedJoint(const Model<S>& model, const Transform<S>& X_up, int i, Fn&& fn) {
+  const TurnedFrame<S>& t = model.turned_frame[i];
+  if (t.turned) {
+    const S c = t.cos_sign * X_up.E(t.cos_row, t.cos_col), s = t.sin_sign * X_up.E(t.cos_row, t.sin_col);
+    switch (t.kernel) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kAxisJoint + K:                                                                 \
+    fn(AxisTransform<S, K>{c, s, t.r_T}, AxisSubspace<S, K>{t.sign});                  \
+    return;
+      SALTUS_AXIS_CASE(0)
+      SALTUS_AXIS_CASE(1)
+      SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+    }
+  }
+  const Transform<S>* X = &X_up;
+  Transform<S> X_turned;
+  if (t.parent_turned) {  // ^iX_λ' = ^iX_λ ^λX_λ' with ^λX_λ' = rot(Q_λᵀ)
+    X_turned = X_up * Transform<S>{model.turned_frame[model.parent[i]].Q.transpose(), Vec3<S>::Zero()};
+    X = &X_turned;
+  }
+  const S& sign = model.axis_sign[i];
+  switch (model.joint_kernel[i]) {
+#define SALTUS_AXIS_CASE(K)                                                            \
+  case kRotatedAxisJoint + K:                                                          \
+    fn(GeneralTransform<S>{*X}, AxisSubspace<S, K>{sign});                             \
+    return;
+    SALTUS_AXIS_CASE(0)
+    SALTUS_AXIS_CASE(1)
+    SALTUS_AXIS_CASE(2)
+#undef SALTUS_AXIS_CASE
+  }
+  fn(GeneralTransform<S>{*X}, GenericSubspace<S>{model, i});
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -2,6 +2,8 @@
 // loop), and poses, velocities and accelerations of points on bodies.
 #pragma once
 
+#include <type_traits>
+
 #include "dynamics/data.hpp"
 #include "dynamics/joint.hpp"
 
@@ -14,6 +16,25 @@ SALTUS_INLINE const Transform<S>& updateJointTransform(const Model<S>& model, Da
   data.X_up[i] = model.num_coordinates[i] == 1 ? jointTransformUp(model, i, q[k])
                                                : multiJointTransformUp(model, i, q.data() + k, &data.S_joint[k]);
   return data.X_up[i];
+}
+
+// jcalc (RBDA 4.4) for the one-coordinate joints, bodies b ≤ i < nb after a multi-coordinate root
+// (b = 1) or all (b = 0): ^iX_λ into data.X_up in the forms of withJoint. For double the cos and
+// sin of their coordinates (contiguous, k = i + nv − nb) are computed together first
+// (sinCosMany) into data.cos_q, data.sin_q. RNEA, CRBA and ABA share it, so their X_up agree to
+// the last bit.
+template <class S>
+void updateOneCoordinateJointTransforms(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
+  const int nb = model.nbodies();
+  const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
+  const int off = model.nv() - nb;
+  const auto none = [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {};
+  if constexpr (std::is_same_v<S, double>) {
+    sinCosMany(q.data() + b + off, nb - b, data.sin_q.data() + b, data.cos_q.data() + b);
+    for (int i = b; i < nb; ++i) withJointAt(model, data.X_up[i], i, q[i + off], data.cos_q[i], data.sin_q[i], none);
+  } else {
+    for (int i = b; i < nb; ++i) withJoint(model, data.X_up[i], i, q[i + off], none);
+  }
 }
 
 // v_J = S_i q̇_i and c_J = Ṡ_i q̇_i (zero for one-coordinate joints). Needs updateJointTransform.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -73,6 +74,42 @@ struct Frame {
   Eigen::Vector3d p_BF = Eigen::Vector3d::Zero();      // origin of the frame in the body frame
 };
 
+// Values of Model::joint_kernel.
+constexpr int kAxisJoint = 0;         // + K (0, 1, 2)
+constexpr int kRotatedAxisJoint = 3;  // + K
+constexpr int kGenericJoint = 6;
+constexpr int kMultiJoint = 7;
+
+// Body i seen from a frame B'_i turned from its body frame B_i by a constant signed permutation
+// Q_i (coordinates x' = Q_i x), for an algorithm whose result does not depend on the coordinates
+// each body's quantities are expressed in, such as M(q) in the CRBA (crba.hpp). Down the tree, a
+// revolute joint about σ e_K whose X_T rotation E_T is a signed permutation gets Q_i = Q_λ E_Tᵀ:
+// from B'_λ the joint is then rot(Q_i E_J(q) E_T Q_λᵀ) xlt(Q_λ r_T) with Q_i E_J(q) E_T Q_λᵀ =
+// Q_i E_J(q) Q_iᵀ, the rotation by the same angle about Q_i e_K = τ e_K' (RBDA 4.32, Table 2.2): an
+// axis joint about σ' e_K', σ' = τ σ, with no X_T rotation (E_T = 1 included: Q_i = Q_λ). Every
+// other joint keeps Q_i = 1 and is reached from B'_λ by ^iX_λ rot(Q_λᵀ). prepareTurnedFrames fills
+// Model::turned_frame.
+template <class S>
+struct TurnedFrame {
+  int kernel = kGenericJoint;   // joint kernel from B'_λ: kAxisJoint + K' when turned, else joint_kernel[i]
+  bool turned = false;          // an axis joint from B'_λ (E_T a signed permutation, 1 included): kernel = kAxisJoint + K'
+  bool parent_turned = false;   // Q_λ ≠ 1
+  S sign = S(1);                // σ' of a turned joint
+  // cos q = cos_sign E(cos_row, cos_col) and σ' sin q = sin_sign E(cos_row, sin_col), read off the
+  // rotation E = E_J(q) E_T of ^iX_λ (joint.hpp, storeRotatedAxisTransform).
+  int cos_row = 0, cos_col = 0, sin_col = 0;
+  S cos_sign = S(1), sin_sign = S(1);
+  Vec3<S> r_T = Vec3<S>::Zero();              // joint origin in B'_λ coordinates: Q_λ r_T
+  Mat3<S> Q = Mat3<S>::Identity();            // Q_i
+  RigidInertia<S> inertia = RigidInertia<S>::Zero();  // I_i in B'_i coordinates
+
+  template <class T>
+  TurnedFrame<T> cast() const {
+    return {kernel, turned, parent_turned, T(sign), cos_row, cos_col, sin_col, T(cos_sign), T(sin_sign),
+            r_T.template cast<T>(), Q.template cast<T>(), inertia.template cast<T>()};
+  }
+};
+
 template <class S>
 struct Model {
   std::string name;    // robot name
@@ -93,6 +130,7 @@ struct Model {
   std::vector<int> joint_kernel;
   std::vector<S> axis_sign;                // σ = ±1 for the axis joints, else 1
   std::vector<int> subtree_end;            // one past the last body of body i's subtree
+  std::vector<TurnedFrame<S>> turned_frame;  // body i in its turned frame B'_i (prepareTurnedFrames)
   std::vector<Transform<S>> X_tree;        // X_T(i): λ(i) frame -> joint frame at q = 0
   std::vector<RigidInertia<S>> inertia;    // I_i in the body frame
   std::vector<bool> massless;              // I_i = 0 (intermediate links of multi-axis mechanisms)
@@ -168,6 +206,8 @@ struct Model {
     m.axis_kind = axis_kind;
     m.joint_kernel = joint_kernel;
     m.subtree_end = subtree_end;
+    m.turned_frame.clear();
+    for (const auto& t : turned_frame) m.turned_frame.push_back(t.template cast<T>());
     m.axis_sign.clear();
     for (const S& x : axis_sign) m.axis_sign.push_back(T(x));
     m.axis.reserve(axis.size());
@@ -198,11 +238,75 @@ inline int axisKind(const Eigen::Vector3d& a) {
   return -1;
 }
 
-// Values of Model::joint_kernel.
-constexpr int kAxisJoint = 0;         // + K (0, 1, 2)
-constexpr int kRotatedAxisJoint = 3;  // + K
-constexpr int kGenericJoint = 6;
-constexpr int kMultiJoint = 7;
+// Whether E is a signed permutation (one entry ±1 in every row and column, the others 0) with
+// determinant +1: a rotation by multiples of π/2 about the coordinate axes.
+inline bool isSignedPermutationRotation(const Mat3<double>& E) {
+  int count = 0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const double x = E(r, c);
+      if (x != 0.0 && x != 1.0 && x != -1.0) return false;
+      count += x != 0.0;
+    }
+  return count == 3 && (E.transpose() * E).isIdentity(0) && E.determinant() == 1.0;
+}
+
+// URDF exporters write π/2 to 10–12 significant digits (the benchmark models' 1.57079632679 is
+// 4.9e-12 short), so their rpy of multiples of π/2 give rotations a few 1e-12 off a signed
+// permutation. The builder takes a joint-origin rotation within kSignedPermutationTolerance of one,
+// entry by entry, to be that permutation: a change of the model by a rotation below ~1e-10 rad (a
+// tenth of a nanometre at one metre), far under any physical tolerance, that lets the joint after
+// it be an axis joint in the turned frames (TurnedFrame) and makes such models' kinematics exact in
+// those entries.
+constexpr double kSignedPermutationTolerance = 1e-10;
+// E with entries within kSignedPermutationTolerance of 0 and ±1 set to them, when the result is a
+// signed-permutation rotation; E unchanged otherwise.
+inline Mat3<double> snapToSignedPermutation(const Mat3<double>& E) {
+  Mat3<double> P;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const double x = E(r, c), rounded = x > 0.5 ? 1.0 : x < -0.5 ? -1.0 : 0.0;
+      if (!(std::abs(x - rounded) <= kSignedPermutationTolerance)) return E;
+      P(r, c) = rounded;
+    }
+  return isSignedPermutationRotation(P) ? P : E;
+}
+
+// Fills model.turned_frame (TurnedFrame above) from the parents, joint kernels, axis signs, X_T
+// and inertias; prepareKernels calls it.
+inline void prepareTurnedFrames(Model<double>& model) {
+  const int nb = model.nbodies();
+  model.turned_frame.assign(nb, TurnedFrame<double>{});
+  for (int i = 0; i < nb; ++i) {
+    TurnedFrame<double>& t = model.turned_frame[i];
+    const int p = model.parent[i];
+    const Mat3<double> Q_parent = p < 0 ? Mat3<double>::Identity() : model.turned_frame[p].Q;
+    const Transform<double>& XT = model.X_tree[i];
+    const int kernel = model.joint_kernel[i];
+    t.kernel = kernel;
+    t.parent_turned = !Q_parent.isIdentity(0);
+    if (kernel < kGenericJoint && isSignedPermutationRotation(XT.E)) {
+      const int K = kernel % 3, i1 = (K + 1) % 3, i2 = (K + 2) % 3;
+      t.Q = Q_parent * XT.E.transpose();  // exact: products and sums of 0 and ±1
+      int K_turned = 0;  // Q_i e_K = τ e_K'
+      for (int k = 0; k < 3; ++k)
+        if (t.Q(k, K) != 0.0) K_turned = k;
+      t.kernel = kAxisJoint + K_turned;
+      t.turned = true;
+      t.sign = t.Q(K_turned, K) * model.axis_sign[i];  // σ' = τ σ
+      // Row i1 of E is c E_T(i1, :) + σ sin q E_T(i2, :), and each row of E_T has one non-zero ±1.
+      t.cos_row = i1;
+      for (int c = 0; c < 3; ++c) {
+        if (XT.E(i1, c) != 0.0) t.cos_col = c, t.cos_sign = XT.E(i1, c);
+        if (XT.E(i2, c) != 0.0) t.sin_col = c, t.sin_sign = XT.E(i2, c) * model.axis_sign[i] * t.sign;
+      }
+      t.r_T = Q_parent * XT.r;
+    }
+    // I_i in B'_i: h' = Q h, Ī' = Q Ī Qᵀ (exact for a signed permutation).
+    const RigidInertia<double>& I = model.inertia[i];
+    t.inertia = {I.m, t.Q * I.h, t.Q * I.I * t.Q.transpose()};
+  }
+}
 
 // Fills model.joint_kernel and model.axis_sign from the joint types, axes and X_T, and
 // model.subtree_end (the builder calls it once the bodies are in place, depth first).
@@ -232,6 +336,7 @@ inline void prepareKernels(Model<double>& model) {
       }
     }
   }
+  prepareTurnedFrames(model);
 }
 
 template <class S>

@@ -91,9 +91,7 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>* q, co
   const int off = model.nv() - nb;  // coordinate k = i + off of body i ≥ b
   // Joint transforms (jcalc) in a loop of their own: its libm calls would otherwise spill the
   // registers of the loop below.
-  if (q)
-    for (int i = b; i < nb; ++i)
-      withJoint(model, data.X_up[i], i, (*q)[i + off], [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {});
+  if (q) updateOneCoordinateJointTransforms(model, data, *q);
   for (int i = b; i < nb; ++i) {
     const int p = model.parent[i], k = i + off;
     rneaForwardStep(model, data, i, v[k], a ? a->data() + k : nullptr, p < 0 ? nullptr : &data.v[p],

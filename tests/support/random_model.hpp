@@ -2,6 +2,7 @@
 // random choice comes from the std::mt19937 passed in, so a seed fixes the model.
 #pragma once
 
+#include <algorithm>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -67,9 +68,25 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
   });
 }
 
-// Revolute joints about ±x, ±y, ±z, each with a random joint origin and, for about half of them,
-// no rotation in the joint origin (URDF rpy 0 0 0): every joint kernel of Model::joint_kernel
-// other than the generic one. About one in eight joints is fixed (merged).
+// One of the 24 rotations by multiples of π/2 about the coordinate axes (a signed permutation of
+// determinant +1), turned further by `off` radians about a random axis, as URDF rpy written to a
+// dozen digits give (dynamics/model.hpp, snapToSignedPermutation).
+inline Eigen::Matrix3d randomSignedPermutationRotation(std::mt19937& rng, double off) {
+  int perm[3] = {0, 1, 2};
+  for (int k = std::uniform_int_distribution<int>(0, 5)(rng); k > 0; --k) std::next_permutation(perm, perm + 3);
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  for (int r = 0; r < 3; ++r) P(r, perm[r]) = std::uniform_int_distribution<int>(0, 1)(rng) ? 1.0 : -1.0;
+  if (P.determinant() < 0) P.row(2) *= -1.0;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  return P * Eigen::AngleAxisd(off, axis).toRotationMatrix();
+}
+
+// Revolute joints about ±x, ±y, ±z, each with a random joint origin whose rotation is, for about
+// half of them, random, for a quarter a multiple of π/2 about the coordinate axes 1e-12 rad off
+// (randomSignedPermutationRotation) and for a quarter none (URDF rpy 0 0 0): every joint kernel
+// of Model::joint_kernel other than the generic one, and turned frames (Model::turned_frame) down
+// chains of signed permutations. About one in eight joints is fixed (merged).
 inline dynamics::ModelBuilder randomAxisTreeBuilder(std::mt19937& rng, int n) {
   using namespace dynamics;
   return randomTree(rng, n, "random_axes", [](std::mt19937& r, JointSpec& j) {
@@ -78,6 +95,7 @@ inline dynamics::ModelBuilder randomAxisTreeBuilder(std::mt19937& rng, int n) {
     j.type = k == 0 ? LinkJointType::Fixed : k < 4 ? LinkJointType::Revolute : LinkJointType::Continuous;
     if (j.type == LinkJointType::Revolute) j.limits = {-2, 2, 10, 100};
     if (k % 2 == 1) j.R_PJ = Eigen::Quaterniond(u(r), u(r), u(r), u(r)).normalized().toRotationMatrix();
+    else if (std::uniform_int_distribution<int>(0, 1)(r)) j.R_PJ = randomSignedPermutationRotation(r, 1e-12);
     j.p_PJ = Eigen::Vector3d(u(r), u(r), u(r)) * 0.5;
     const int a = std::uniform_int_distribution<int>(0, 5)(r);
     j.axis = Eigen::Vector3d::Unit(a % 3) * (a < 3 ? 1.0 : -1.0);
