@@ -33,13 +33,9 @@ struct DerivativeData {
         q(model.nv()), v(model.nv()), w(model.nv()),
         dtau_dq(MatX<double>::Zero(model.nv(), model.nv())), dtau_dv(MatX<double>::Zero(model.nv(), model.nv())),
         dqdd_dq(model.nv(), model.nv()), dqdd_dv(model.nv(), model.nv()), dqdd_dtau(model.nv(), model.nv()),
-        subtree_end(model.nbodies()), dv(model.nbodies()), da(model.nbodies()), df(model.nbodies()),
+        dv(model.nbodies()), da(model.nbodies()), df(model.nbodies()),
         seed_q(model.nv(), -1), seed_v(model.nv(), -1), Iv(model.nbodies()), touched(model.nbodies(), false),
         active(model.nbodies(), false) {
-    // subtree_end[i]: one past the largest body index in the subtree of body i.
-    for (int i = 0; i < model.nbodies(); ++i) subtree_end[i] = i + 1;
-    for (int i = model.nbodies() - 1; i >= 0; --i)
-      if (model.parent[i] >= 0) subtree_end[model.parent[i]] = std::max(subtree_end[model.parent[i]], subtree_end[i]);
     // The directions of rneaDerivatives in coordinate order, q_k then q̇_k, N to a chunk. The base
     // translation coordinates (x, y, z of a free base; x, z of a planar one) have none: RNEA does
     // not depend on where the robot is (uniform gravity) nor, by Galilean invariance, on the
@@ -79,10 +75,9 @@ struct DerivativeData {
   MatX<double> dtau_dq, dtau_dv;
   MatX<double> dqdd_dq, dqdd_dv, dqdd_dtau;    // ABA: ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (= M⁻¹)
 
-  // rneaDerivatives' scratch. Per body: subtree extents and the tangents of the current chunk
+  // rneaDerivatives' scratch. Per body: the tangents of the current chunk
   // (tangent.hpp) of v_i, a_i and the force f_i; per coordinate: the chunk's direction of q_k
   // and of q̇_k (−1: none).
-  std::vector<int> subtree_end;
   std::vector<tangent::MotionTangent<N>, Eigen::aligned_allocator<tangent::MotionTangent<N>>> dv, da;
   std::vector<tangent::ForceTangent<N>, Eigen::aligned_allocator<tangent::ForceTangent<N>>> df;
   std::vector<int> seed_q, seed_v;
@@ -193,7 +188,7 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
     const int b0 = model.coordinate_body[chunk.coordinate[0]];
     const int b1 = model.coordinate_body[chunk.coordinate[chunk.size - 1]];
     int end = b1 + 1;
-    for (int b = b0; b <= b1; ++b) end = std::max(end, dd.subtree_end[b]);
+    for (int b = b0; b <= b1; ++b) end = std::max(end, model.subtree_end[b]);
     for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.seed_v : dd.seed_q)[chunk.coordinate[d]] = d;
     auto store = [&](int k, const RowN& dtau) {
       for (int d = 0; d < chunk.size; ++d) (chunk.velocity[d] ? dd.dtau_dv : dd.dtau_dq)(k, chunk.coordinate[d]) = dtau[d];
