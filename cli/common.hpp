@@ -39,6 +39,7 @@ Command addOptimizeCommand(CLI::App& saltus);  // optimize.cpp: trajectory optim
 Command addRenderCommand(CLI::App& saltus);    // render.cpp: trajectory -> MP4 / PNG frames (off-screen)
 Command addReplayCommand(CLI::App& saltus);    // replay.cpp: optimised inputs replayed in the stepper / Bullet
 Command addRunCommand(CLI::App& saltus);       // run.cpp: the main job (optimize, replay, render, charts, report)
+Command addSweepCommand(CLI::App& saltus);     // sweep.cpp: a grid of seeded solves with statistics
 
 // The --base option's value: fixed, planar or free.
 dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value);

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       cli::addRenderCommand(app),
       cli::addReplayCommand(app),
       cli::addRunCommand(app),
+      cli::addSweepCommand(app),
   };
 
   // CLI11 would call a missing or unknown command "required"; name them instead.

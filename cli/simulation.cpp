@@ -92,23 +92,6 @@ double cpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
-  const bool write_ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const bool close_ok = std::fclose(f) == 0;
-  if (!write_ok || !close_ok) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": writing failed (" + std::strerror(errno) + ")");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the finished file into place (" + std::strerror(err) + ")");
-  }
-}
-
 std::vector<std::string> chartScriptCommand(const std::string& kind, const std::string& csv, const std::string& png,
                                             const std::string& svg) {
   const std::string script = std::string(SALTUS_SOURCE_DIR) + "/scripts/charts.py";

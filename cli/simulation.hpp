@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/atomic_file.hpp"
 #include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 
@@ -37,9 +38,8 @@ long stepCount(double duration, double dt);
 // CPU time of this process [s] (CLOCK_PROCESS_CPUTIME_ID).
 double cpuSeconds();
 
-// Writes `text` to path + ".tmp-<pid>" and renames it onto `path`; throws std::runtime_error
-// naming the file.
-void writeFileAtomically(const std::string& path, const std::string& text);
+// Files are written by temporary file and rename (scene/atomic_file.hpp).
+using scene::writeFileAtomically;
 
 // Runs `python3 scripts/charts.py KIND CSV --png PNG --svg SVG` (the interpreter: $SALTUS_PYTHON
 // when set, else /usr/bin/python3 when it exists, else python3 from PATH; MPLBACKEND=Agg; the

@@ -18,6 +18,10 @@
         the method from DIR/summary.json) with the impulses as stems at their instants
         (right-hand axis, N s); element boundaries as faint vertical lines, from the h[n,0]
         values of DIR/variables.csv when it is there
+    charts.py sweep-time|sweep-error|sweep-cost DIR/summary.json --png OUT.png --svg OUT.svg
+        `saltus sweep`: per cell and method, the range, interquartile range and median of the
+        solve time, mean local error or cost (normalised per case) of the successful solves, in
+        the style of the paper's Figs. 6-8
 
 The CSV files start with '# key: value' comment lines (scene, method, error, ...) that give the
 titles. Each image is written to a temporary name beside the target and renamed into place.
@@ -419,8 +423,100 @@ def replay_energy(args):
     save(fig, args.png, args.svg)
 
 
+SWEEP_METRICS = {
+    "time": ("wall_seconds", "solve time [s] (both stages, all attempts)", "paper Fig. 6"),
+    "error": ("mean_local_error", "mean local error (relative to the largest state magnitude)", "paper Fig. 7"),
+    "cost": ("objective", "cost", "paper Fig. 8"),
+}
+
+
+def sweep_chart(metric, args):
+    """Per cell (problem and parameter values) and method, over the successful solves: the range
+    (thin line), the interquartile range (thick line) and the median (marker), in the style of the
+    paper's Figs. 6-8. Cost is normalised per case (problem, parameters, seed) by the lowest cost
+    any method reached there, as in Fig. 8, when there are several methods and every cost is
+    positive; otherwise it is drawn as it is."""
+    import json
+
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    key, label, figure = SWEEP_METRICS[metric]
+    with open(args.csv) as f:
+        summary = json.load(f)
+    records = [r for r in summary.get("records", []) if r.get("success")]
+    every = summary.get("records", [])
+    if not every:
+        raise SystemExit("charts.py: %s: no records" % args.csv)
+
+    def case_of(r):
+        params = ", ".join("%s=%g" % (k, v) for k, v in sorted(r["set"].items()))
+        return r["problem_name"] + (" (" + params + ")" if params else "")
+
+    cases = []
+    for r in every:
+        c = case_of(r)
+        if c not in cases:
+            cases.append(c)
+    methods = []
+    for r in every:
+        if r["method"] not in methods:
+            methods.append(r["method"])
+    values = {}
+    normalised = False
+    if metric == "cost":
+        best = {}
+        for r in records:
+            k = (case_of(r), r["seed"])
+            best[k] = min(best.get(k, math.inf), r[key])
+        normalised = len(methods) > 1 and records and all(r[key] > 0 for r in records)
+        for r in records:
+            v = r[key] / best[(case_of(r), r["seed"])] if normalised else r[key]
+            values.setdefault((case_of(r), r["method"]), []).append(v)
+        if normalised:
+            label = "cost / lowest cost of any method on the same case"
+    else:
+        for r in records:
+            values.setdefault((case_of(r), r["method"]), []).append(r[key])
+
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    fig, ax = plt.subplots(figsize=(8, 1.2 + 0.45 * len(cases) * max(1, len(methods)) ** 0.5))
+    spread = 0.6 / max(1, len(methods))
+    positive = all(v > 0 for vs in values.values() for v in vs)
+    for mi, m in enumerate(methods):
+        for ci, c in enumerate(cases):
+            vs = values.get((c, m))
+            y = ci + (mi - (len(methods) - 1) / 2) * spread
+            if not vs:
+                ax.plot([], [])
+                ax.annotate("no success", (0, y), xycoords=("axes fraction", "data"), fontsize=7, color=colours[mi % 10],
+                            va="center", xytext=(4, 0), textcoords="offset points")
+                continue
+            lo, q1, med, q3, hi = np.percentile(vs, [0, 25, 50, 75, 100])
+            ax.plot([lo, hi], [y, y], "-", color=colours[mi % 10], linewidth=1)
+            ax.plot([q1, q3], [y, y], "-", color=colours[mi % 10], linewidth=5, alpha=0.6)
+            ax.plot([med], [y], "o", color=colours[mi % 10], markersize=6,
+                    label=m if ci == next(i for i, cc in enumerate(cases) if values.get((cc, m))) else None)
+    ax.set_yticks(range(len(cases)))
+    ax.set_yticklabels(["\n".join(textwrap.wrap(c, 40)) for c in cases], fontsize=8)
+    ax.invert_yaxis()
+    if positive and values and metric != "cost":
+        ax.set_xscale("log")
+    ax.set_xlabel(label)
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    if methods:
+        ax.legend(fontsize=8, loc="best")
+    n_ok = len(records)
+    ax.set_title("%s over the successful solves (%d of %d); median, interquartile range, range (as in %s)"
+                 % (label.split(" (")[0], n_ok, len(every), figure), fontsize=9)
+    save(fig, args.png, args.svg)
+
+
+
 KINDS = {"work-precision": work_precision, "stability": stability, "replay-deviation": replay_deviation,
-         "replay-energy": replay_energy, "trajectory": trajectory}
+         "replay-energy": replay_energy, "trajectory": trajectory,
+         "sweep-time": lambda a: sweep_chart("time", a), "sweep-error": lambda a: sweep_chart("error", a),
+         "sweep-cost": lambda a: sweep_chart("cost", a)}
 
 
 def main():

@@ -1,0 +1,186 @@
+// saltus sweep SPEC.yaml --out DIR [--jobs N] [--list]: the grid of seeded solves of a spec
+// (sweep/spec.hpp) on N local processes, one record per solve (sweep/runner.hpp), and then
+//   DIR/summary.csv, DIR/summary.json   statistics per cell (sweep/record.hpp)
+//   DIR/report.md                       success rates per cell, failures, the charts
+//   DIR/charts/sweep_{time,error,cost}.{png,svg}   the paper's Figs. 6–8 per cell and method
+// The spec is checked, and every problem loaded with each of its parameter combinations,
+// before any solve starts. Run again with the same arguments, the sweep skips the solves that
+// have a record. Exit status: 0 when every solve has a record, 130 when interrupted (the
+// summary covers the records so far), 1 for errors (a bad spec names file, line and key).
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "cli/common.hpp"
+#include "cli/simulation.hpp"
+#include "sweep/runner.hpp"
+
+namespace saltus::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace saltus::sweep;
+
+struct SweepOptions {
+  std::string spec;
+  std::string out;
+  int jobs = 0;
+  bool list = false;
+};
+
+std::string duration(double seconds) {
+  if (seconds < 0) return "?";
+  const long s = std::lround(seconds);
+  std::ostringstream o;
+  if (s >= 3600) o << s / 3600 << "h" << (s % 3600) / 60 << "m";
+  else if (s >= 60) o << s / 60 << "m" << s % 60 << "s";
+  else o << s << "s";
+  return o.str();
+}
+
+std::string outcome(const SweepRecord& r) {
+  if (r.status == "error") return "error: " + r.error;
+  std::ostringstream o;
+  o << (r.success() ? "success" : !r.feasible ? "not feasible" : "not physical") << " (" << r.status << ", "
+    << r.iterations << " it, " << formatNumber(r.wall_seconds, 3) << " s, largest product "
+    << formatNumber(r.largest_product, 2);
+  if (r.replay_deviation >= 0) o << ", replay deviation " << formatNumber(r.replay_deviation, 2);
+  return o.str() + ")";
+}
+
+void printProgress(const Progress& p, bool terminal) {
+  const int left = p.total - p.done;
+  if (terminal) {
+    const int width = 30, filled = p.total ? width * p.done / p.total : width;
+    std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << p.done << "/"
+              << p.total << " done, " << p.failed << " failed, " << left << " left, ETA " << duration(p.eta_seconds)
+              << "   " << std::flush;
+    if (left == 0) std::cerr << "\n";
+    return;
+  }
+  if (!p.last) {
+    std::cerr << "saltus sweep: " << p.total << " solves, " << p.skipped << " with a record already\n";
+    return;
+  }
+  std::cerr << "[" << p.done << "/" << p.total << "] " << p.last->id << ": " << outcome(*p.last) << "; " << left
+            << " left, ETA " << duration(p.eta_seconds) << "\n";
+}
+
+std::string quartileText(const Quartiles& q, int digits = 3) {
+  if (q.count == 0) return "–";
+  return formatNumber(q.median, digits) + " [" + formatNumber(q.q1, digits) + ", " + formatNumber(q.q3, digits) + "]";
+}
+
+std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases, const std::vector<SweepRecord>& records,
+                   const std::vector<CellSummary>& cells, bool charts) {
+  std::ostringstream md;
+  md << "# Sweep " << fs::path(opt.spec).filename().string() << "\n\n"
+     << "Spec `" << opt.spec << "`; " << records.size() << " of " << cases.size() << " solves have a record"
+     << (records.size() < cases.size() ? " (the sweep is not finished: run the same command again)" : "") << ".\n\n"
+     << "A solve succeeds when it is feasible (Ipopt succeeded in every stage and every complementarity product is "
+        "at most the problem's tolerance) and physically right (its replay in Saltus' time-stepper stays within the "
+        "replay tolerance). Time, iterations, mean local error and cost are over the successful solves: median "
+        "[first quartile, third quartile].\n\n"
+     << "| problem | method | parameters | success | feasible | physical | wall s | iterations | mean local error | "
+        "cost |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const CellSummary& c : cells) {
+    std::string parameters;
+    for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : ", ") + name + " = " + formatValue(value);
+    md << "| " << c.problem_name << " | " << c.method << " | " << (parameters.empty() ? "–" : parameters) << " | "
+       << c.successes << "/" << c.solves << " (" << std::lround(100 * c.success_rate) << " %) | " << c.feasible << " | "
+       << c.physical << " | " << quartileText(c.wall_seconds) << " | " << quartileText(c.iterations) << " | "
+       << quartileText(c.mean_local_error, 2) << " | " << quartileText(c.objective, 3) << " |\n";
+  }
+  int total = 0, successes = 0;
+  for (const CellSummary& c : cells) total += c.solves, successes += c.successes;
+  md << "\nOverall: " << successes << " of " << total << " solves succeeded.\n";
+  if (charts)
+    md << "\n## Charts\n\nPer cell and method: median (marker), range (thin line), interquartile range (thick line), "
+          "as in the paper's Figs. 6–8 (Shield, Johnson & Patel, IEEE T-RO 2023).\n\n"
+          "![solve time](charts/sweep_time.png)\n\n![mean local error](charts/sweep_error.png)\n\n"
+          "![cost](charts/sweep_cost.png)\n";
+  bool header = false;
+  for (const SweepRecord& r : records) {
+    if (r.success()) continue;
+    if (!header) md << "\n## Failed solves\n\n| solve | outcome | command |\n|---|---|---|\n";
+    header = true;
+    std::string text = outcome(r);
+    for (char& ch : text)
+      if (ch == '|' || ch == '\n') ch = ' ';
+    md << "| " << r.id << " | " << text << " | `" << r.command << "` |\n";
+  }
+  return md.str();
+}
+
+int sweepCommand(const SweepOptions& opt) {
+  const SweepSpec spec = readSweepSpec(opt.spec);
+  const std::vector<SweepCase> cases = expandSweep(spec);
+  if (opt.list) {
+    for (const SweepCase& c : cases) {
+      std::vector<std::string> args = c.optimizeArguments(spec.options, caseDirectory(opt.out, c) + "/solution");
+      args.insert(args.begin(), "saltus");
+      std::cout << shellCommand(args) << "\n";
+    }
+    return 0;
+  }
+  if (fs::exists(opt.out) && !fs::is_directory(opt.out)) throw UsageError("--out " + opt.out + ": exists and is not a directory");
+  RunnerOptions ro;
+  ro.saltus = fs::read_symlink("/proc/self/exe").string();
+  ro.jobs = opt.jobs > 0 ? opt.jobs : std::max(1u, std::thread::hardware_concurrency());
+  const bool terminal = ::isatty(STDERR_FILENO);
+  const RunResult result = runSweep(spec, cases, opt.out, ro, [&](const Progress& p) { printProgress(p, terminal); });
+  if (terminal && result.interrupted) std::cerr << "\n";
+
+  const std::vector<CellSummary> cells = summarise(result.records);
+  const fs::path out(opt.out);
+  writeFileAtomically((out / "summary.csv").string(), summaryCsv(cells));
+  writeFileAtomically((out / "summary.json").string(), summaryJson(cells, result.records).dump(2) + "\n");
+  bool charts = false;
+  std::string chart_error;
+  if (!result.records.empty()) {
+    try {
+      fs::create_directories(out / "charts");
+      for (const char* kind : {"time", "error", "cost"}) {
+        const std::string stem = (out / "charts" / (std::string("sweep_") + kind)).string();
+        runChartScript(std::string("sweep-") + kind, (out / "summary.json").string(), stem + ".png", stem + ".svg");
+      }
+      charts = true;
+    } catch (const std::exception& e) {
+      chart_error = e.what();
+    }
+  }
+  writeFileAtomically((out / "report.md").string(), report(opt, cases, result.records, cells, charts));
+  int successes = 0;
+  for (const SweepRecord& r : result.records) successes += r.success();
+  std::cerr << "saltus sweep: " << result.records.size() << " of " << cases.size() << " solves have a record ("
+            << result.ran << " run now), " << successes << " succeeded -> " << (out / "report.md").string() << "\n";
+  if (result.interrupted) {
+    std::cerr << "saltus sweep: interrupted; run the same command again to finish\n";
+    return 130;
+  }
+  if (!chart_error.empty()) {
+    std::cerr << "saltus: " << chart_error << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addSweepCommand(CLI::App& saltus) {
+  auto opt = std::make_shared<SweepOptions>();
+  CLI::App* app = saltus.add_subcommand("sweep", "A grid of seeded solves on local processes, with statistics and charts");
+  app->add_option("spec", opt->spec, "sweep spec (.yaml): problems, methods, set, seeds, options")->required();
+  app->add_option("--out", opt->out, "output folder (runs/<id>/record.json, summary.csv/.json, report.md, charts/)")
+      ->required();
+  app->add_option("--jobs", opt->jobs, "solves at once (default: the number of cores)")->check(CLI::NonNegativeNumber);
+  app->add_flag("--list", opt->list, "print the saltus optimize command of every solve and stop");
+  return {app, [opt] { return sweepCommand(*opt); }};
+}
+
+}  // namespace saltus::cli

@@ -1,0 +1,60 @@
+// Running a sweep (spec.hpp) on local processes. Each solve is a child process
+// `saltus optimize ... --out DIR/runs/<id>/solution` (single-threaded: OMP_NUM_THREADS and
+// OPENBLAS_NUM_THREADS are 1), its standard error in DIR/runs/<id>/optimize.log. When it ends,
+// the runner reads its summary.json, replays a feasible solution in Saltus' time-stepper (the
+// physical check, spec.hpp's ReplayCheck) and writes DIR/runs/<id>/record.json atomically
+// (temporary file, then rename): a solve has a record exactly when it finished.
+//
+// Resumable: solves that have a record are skipped; a solve without one (it was running when the
+// sweep was killed) starts again from an empty folder. Interrupted (SIGINT, SIGTERM), the runner
+// stops its children, writes no record for them and returns; DIR/.lock (flock) keeps a second
+// sweep out of the same folder while one runs.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sweep/record.hpp"
+#include "sweep/spec.hpp"
+
+namespace saltus::sweep {
+
+struct RunnerOptions {
+  std::string saltus;  // the saltus program the solves run
+  int jobs = 1;        // solves at once
+};
+
+struct Progress {
+  int total = 0, done = 0, failed = 0, skipped = 0;  // skipped: had a record before this run
+  double elapsed_seconds = 0;
+  double eta_seconds = -1;  // −1 until a solve of this run has finished
+  const SweepRecord* last = nullptr;  // the record just written (null: the call before the first solve)
+};
+
+struct RunResult {
+  std::vector<SweepRecord> records;  // every case with a record, in the grid's order
+  bool interrupted = false;
+  int ran = 0;  // solves run by this call
+};
+
+// The folder of a case, and its record.
+std::string caseDirectory(const std::string& out, const SweepCase& c);
+// Reads DIR/runs/*/record.json of the given cases (missing ones are skipped; a record that
+// cannot be read throws std::runtime_error naming the file).
+std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<SweepCase>& cases);
+
+// Builds the record of a finished solve from its folder (summary.json, optimize.log) and runs
+// the replay check. `command` is the reproducing command line.
+SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,
+                       const ReplayCheck& check);
+
+// Runs every case without a record; `progress` is called once before the first solve and after
+// each solve. Throws std::runtime_error when DIR is locked by another sweep or a child cannot start.
+RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
+                   const RunnerOptions& options, const std::function<void(const Progress&)>& progress);
+
+// The command line as a shell would take it back (arguments quoted where needed).
+std::string shellCommand(const std::vector<std::string>& arguments);
+
+}  // namespace saltus::sweep

@@ -1,0 +1,277 @@
+#include "sweep/spec.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "collocation/problem_file.hpp"
+#include "collocation/transcription.hpp"
+#include "scene/yaml_reader.hpp"
+
+namespace saltus::sweep {
+
+namespace fs = std::filesystem;
+using scene::YamlReader;
+
+std::string formatValue(double x) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return ec == std::errc() ? std::string(buffer, end) : std::to_string(x);
+}
+
+namespace {
+
+// A grid `{name: [values] | value}`: every parameter name an identifier, every value finite.
+std::map<std::string, std::vector<double>> readGrid(YamlReader& r, const YAML::Node& n, const std::string& path) {
+  std::map<std::string, std::vector<double>> grid;
+  r.checkNameMap(n, path);
+  if (n.IsNull()) return grid;
+  for (auto it = n.begin(); it != n.end(); ++it) {
+    const std::string name = it->first.Scalar();
+    const std::string at = scene::keyPath(path, name);
+    if (!scene::isIdentifier(name)) r.fail(it->first, at, "expected a parameter name (letters, digits, _)");
+    std::vector<double> values;
+    if (it->second.IsSequence()) {
+      if (it->second.size() == 0) r.fail(it->second, at, "expected at least one value");
+      for (std::size_t i = 0; i < it->second.size(); ++i)
+        values.push_back(r.number(it->second[i], scene::indexPath(at, i)));
+    } else {
+      values.push_back(r.number(it->second, at));
+    }
+    std::set<double> seen;
+    for (double v : values)
+      if (!seen.insert(v).second) r.fail(it->second, at, "the value " + formatValue(v) + " is listed twice");
+    grid[name] = values;
+  }
+  return grid;
+}
+
+int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path, int minimum) {
+  const int k = r.integer(n, path);
+  if (k < minimum) r.fail(n, path, "expected an integer ≥ " + std::to_string(minimum) + ", got " + std::to_string(k));
+  return k;
+}
+
+void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed_scale", "hessian", "ipopt"}, true);
+  if (n.IsNull()) return;
+  if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
+  if (n["P"]) {
+    o.P = positiveInteger(r, n["P"], "options.P", 1);
+    if (*o.P > 9) r.fail(n["P"], "options.P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
+  }
+  if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], "options.restarts", 0);
+  if (n["seed_scale"]) {
+    o.seed_scale = r.number(n["seed_scale"], "options.seed_scale");
+    if (*o.seed_scale < 0) r.fail(n["seed_scale"], "options.seed_scale", "expected a non-negative number");
+  }
+  if (n["hessian"]) {
+    o.hessian = r.text(n["hessian"], "options.hessian");
+    if (o.hessian != "exact" && o.hessian != "limited-memory")
+      r.fail(n["hessian"], "options.hessian", "expected exact or limited-memory, got '" + o.hessian + "'");
+  }
+  if (n["ipopt"]) {
+    r.checkNameMap(n["ipopt"], "options.ipopt");
+    for (auto it = n["ipopt"].begin(); it != n["ipopt"].end(); ++it) {
+      const std::string at = scene::keyPath("options.ipopt", it->first.Scalar());
+      if (!it->second.IsScalar()) r.fail(it->second, at, "expected a number or a name, got " + scene::describe(it->second));
+      o.ipopt[it->first.Scalar()] = it->second.Scalar();
+    }
+  }
+}
+
+void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
+  if (n.IsScalar() && (n.Scalar() == "false" || n.Scalar() == "true")) {
+    c.enabled = r.boolean(n, "replay");
+    return;
+  }
+  r.checkMap(n, "replay", {"dt", "tolerance"});
+  if (n["dt"]) {
+    c.dt = r.number(n["dt"], "replay.dt");
+    if (!(c.dt > 0)) r.fail(n["dt"], "replay.dt", "expected a positive step [s]");
+  }
+  if (n["tolerance"]) {
+    c.tolerance = r.number(n["tolerance"], "replay.tolerance");
+    if (!(c.tolerance >= 0)) r.fail(n["tolerance"], "replay.tolerance", "expected a non-negative deviation [m or rad]");
+  }
+}
+
+std::string resolveProblem(const std::string& name, const std::string& spec_file) {
+  const bool is_path = name.find('/') != std::string::npos || name.ends_with(".yaml") || name.ends_with(".yml");
+  if (!is_path || fs::path(name).is_absolute() || spec_file.empty()) return name;
+  return (fs::path(spec_file).parent_path() / name).lexically_normal().string();
+}
+
+// Characters safe in a directory name; others become '_'.
+std::string sanitise(const std::string& s) {
+  std::string out;
+  for (char ch : s) out += std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.' || ch == '=' ? ch : '_';
+  return out;
+}
+
+}  // namespace
+
+SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
+  YAML::Node root;
+  try {
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw scene::ScenarioError(scene::location(file, documents[1].Mark()) +
+                                 ": a sweep spec is one YAML document; found a second one");
+    if (!documents.empty()) root = documents.front();
+  } catch (const YAML::ParserException& e) {
+    throw scene::ScenarioError(scene::location(file, e.mark) + ": YAML syntax error: " + e.msg);
+  }
+  YamlReader r(file, {});
+  if (!root.IsMap()) r.fail(root, "", "a sweep spec must be a map of keys (problems, methods, set, seeds, options), got " +
+                                          scene::describe(root));
+  r.checkMap(root, "", {"problems", "methods", "set", "seeds", "options", "replay"});
+  SweepSpec spec;
+  spec.file = file;
+
+  const YAML::Node problems = r.required(root, "", "problems");
+  r.checkSequence(problems, "problems");
+  if (problems.size() == 0) r.fail(problems, "problems", "expected at least one problem");
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    const std::string at = scene::indexPath("problems", i);
+    const YAML::Node p = problems[i];
+    ProblemEntry entry;
+    if (p.IsMap()) {
+      r.checkMap(p, at, {"problem", "set"});
+      entry.problem = resolveProblem(r.text(r.required(p, at, "problem"), at + ".problem"), file);
+      if (p["set"]) entry.set = readGrid(r, p["set"], at + ".set");
+    } else {
+      entry.problem = resolveProblem(r.text(p, at), file);
+    }
+    spec.problems.push_back(entry);
+  }
+
+  const YAML::Node methods = r.required(root, "", "methods");
+  r.checkSequence(methods, "methods");
+  if (methods.size() == 0) r.fail(methods, "methods", "expected at least one method");
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const std::string at = scene::indexPath("methods", i), m = r.text(methods[i], at);
+    try {
+      collocation::parseMethod(m);
+    } catch (const std::invalid_argument&) {
+      r.fail(methods[i], at, "expected impulsive, continuous or first-order, got '" + m + "'");
+    }
+    if (std::find(spec.methods.begin(), spec.methods.end(), m) != spec.methods.end())
+      r.fail(methods[i], at, "the method " + m + " is listed twice");
+    spec.methods.push_back(m);
+  }
+
+  if (root["set"]) spec.set = readGrid(r, root["set"], "set");
+
+  const YAML::Node seeds = r.required(root, "", "seeds");
+  if (seeds.IsSequence()) {
+    if (seeds.size() == 0) r.fail(seeds, "seeds", "expected at least one seed");
+    for (std::size_t i = 0; i < seeds.size(); ++i)
+      spec.seeds.push_back(static_cast<unsigned>(positiveInteger(r, seeds[i], scene::indexPath("seeds", i), 0)));
+  } else if (seeds.IsMap()) {
+    r.checkMap(seeds, "seeds", {"from", "count"});
+    const int from = positiveInteger(r, r.required(seeds, "seeds", "from"), "seeds.from", 0);
+    const int count = positiveInteger(r, r.required(seeds, "seeds", "count"), "seeds.count", 1);
+    for (int k = 0; k < count; ++k) spec.seeds.push_back(static_cast<unsigned>(from + k));
+  } else {
+    r.fail(seeds, "seeds", "expected a list of seeds or {from: S, count: K}, got " + scene::describe(seeds));
+  }
+  std::set<unsigned> unique(spec.seeds.begin(), spec.seeds.end());
+  if (unique.size() != spec.seeds.size()) r.fail(seeds, "seeds", "a seed is listed twice");
+
+  if (root["options"]) readOptions(r, root["options"], spec.options);
+  if (root["replay"]) readReplay(r, root["replay"], spec.replay);
+  return spec;
+}
+
+SweepSpec readSweepSpec(const std::string& path) {
+  if (!fs::is_regular_file(path)) throw scene::ScenarioError(path + ": cannot open the sweep spec: no such file");
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw scene::ScenarioError(path + ": cannot read the sweep spec");
+  return parseSweepSpec(text.str(), path);
+}
+
+std::string SweepCase::cell() const {
+  std::string s = problem_name + " " + method;
+  for (const auto& [name, value] : set) s += " " + name + "=" + formatValue(value);
+  return s;
+}
+
+std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, const std::string& out) const {
+  std::vector<std::string> a = {"optimize", problem, "--method", method, "--seed", std::to_string(seed)};
+  for (const auto& [name, value] : set) a.insert(a.end(), {"--set", name + "=" + formatValue(value)});
+  if (o.N) a.insert(a.end(), {"--N", std::to_string(*o.N)});
+  if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
+  if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
+  if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
+  if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
+  for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});
+  a.insert(a.end(), {"--out", out});
+  return a;
+}
+
+std::vector<SweepCase> expandSweep(const SweepSpec& spec) {
+  std::vector<SweepCase> cases;
+  std::set<std::string> ids;
+  for (std::size_t pi = 0; pi < spec.problems.size(); ++pi) {
+    const ProblemEntry& entry = spec.problems[pi];
+    const std::string where = spec.file + ": problems[" + std::to_string(pi) + "] (" + entry.problem + ")";
+    // The problem's grid: the top-level one, then its own (its own wins on a shared name).
+    std::map<std::string, std::vector<double>> grid = spec.set;
+    for (const auto& [name, values] : entry.set) grid[name] = values;
+    std::vector<std::map<std::string, double>> combinations(1);
+    for (const auto& [name, values] : grid) {
+      std::vector<std::map<std::string, double>> next;
+      for (const auto& c : combinations)
+        for (double v : values) {
+          auto d = c;
+          d[name] = v;
+          next.push_back(d);
+        }
+      combinations = next;
+    }
+    for (const auto& values : combinations) {
+      collocation::Problem problem;
+      try {
+        problem = collocation::loadProblem(entry.problem, values);
+        if (spec.options.N || spec.options.P)
+          collocation::remesh(problem, spec.options.N.value_or(problem.N), spec.options.P.value_or(problem.P));
+      } catch (const std::exception& e) {
+        std::string set;
+        for (const auto& [name, value] : values) set += (set.empty() ? "" : ", ") + name + "=" + formatValue(value);
+        throw scene::ScenarioError(where + (set.empty() ? "" : " with " + set) + ": " + e.what());
+      }
+      for (const std::string& method : spec.methods) {
+        try {
+          const collocation::Transcription check(problem, collocation::parseMethod(method));
+        } catch (const std::invalid_argument& e) {
+          throw scene::ScenarioError(where + ", method " + method + ": " + e.what());
+        }
+        for (unsigned seed : spec.seeds) {
+          SweepCase c;
+          c.problem = entry.problem;
+          c.problem_name = problem.name;
+          c.method = method;
+          c.set = values;
+          c.seed = seed;
+          c.id = sanitise(problem.name) + "__" + method;
+          for (const auto& [name, value] : values) c.id += "__" + sanitise(name + "=" + formatValue(value));
+          c.id += "__seed=" + std::to_string(seed);
+          if (!ids.insert(c.id).second)
+            throw scene::ScenarioError(where + ": the solve " + c.id +
+                                       " is in the grid twice (two entries of problem '" + problem.name +
+                                       "' with the same parameter values)");
+          cases.push_back(c);
+        }
+      }
+    }
+  }
+  return cases;
+}
+
+}  // namespace saltus::sweep

@@ -1,0 +1,85 @@
+// A sweep: the grid of solves problems × methods × parameter values × seeds that `saltus sweep`
+// runs (the protocol of the paper's §V.C: many seeded solves, statistics per case). Read from a
+// YAML spec (format in the README, "saltus sweep"):
+//
+//   problems: [point_mass_drop, drops/drop.yaml]   # built-in names or files (relative to the spec)
+//   methods: [impulsive, first-order]
+//   set: {restitution: [0, 0.5], height: [0.05, 0.3]}  # every combination, for every problem
+//   seeds: {from: 1, count: 10}                         # or a list [1, 2, 7]
+//   options: {N: 20, restarts: 0}                        # passed to every solve
+//
+// A problem may carry a grid of its own, combined with the top-level one:
+//   problems: [{problem: pendulum_conveyor, set: {friction: [0.2, 4]}}]
+// Every error is a scene::ScenarioError naming the file, line, column and key; expandSweep also
+// loads every problem with each of its parameter combinations, so a parameter the problem lacks
+// or a value it refuses is reported before any solve starts.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saltus::sweep {
+
+// Options of `saltus optimize` passed to every solve.
+struct SolveSettings {
+  std::optional<int> N, P, restarts;
+  std::optional<double> seed_scale;
+  std::string hessian;  // "", "exact" or "limited-memory"
+  std::map<std::string, std::string> ipopt;  // --ipopt name=value
+};
+
+// The physical check of every solution: a replay in Saltus' time-stepper (verify/replay.hpp)
+// from the optimised initial state, driven by the optimised inputs; the solution is physically
+// right when the replayed positions stay within the tolerance of the optimised ones.
+struct ReplayCheck {
+  bool enabled = true;
+  double dt = 1e-4;
+  double tolerance = 0;  // 0: verify::ReplayOptions' default (10 m/s × dt)
+};
+
+struct ProblemEntry {
+  std::string problem;  // built-in name or path (resolved against the spec's folder)
+  std::map<std::string, std::vector<double>> set;  // this problem's own grid
+};
+
+struct SweepSpec {
+  std::string file;  // where it was read from ("" when built in C++)
+  std::vector<ProblemEntry> problems;
+  std::vector<std::string> methods;
+  std::map<std::string, std::vector<double>> set;  // for every problem
+  std::vector<unsigned> seeds;
+  SolveSettings options;
+  ReplayCheck replay;
+};
+
+// One solve of the grid.
+struct SweepCase {
+  std::string id;       // directory name under DIR/runs, unique and stable across runs of a spec
+  std::string problem;  // as passed to saltus optimize
+  std::string problem_name;  // the problem's `name`
+  std::string method;
+  std::map<std::string, double> set;  // the grid's values (sorted by name)
+  unsigned seed = 1;
+  // A cell of the summary: problem, method and parameter values (every seed of a cell).
+  std::string cell() const;
+  // The arguments after `saltus`: optimize PROBLEM --method M --seed S --set ... --out OUT.
+  std::vector<std::string> optimizeArguments(const SolveSettings& options, const std::string& out) const;
+};
+
+SweepSpec readSweepSpec(const std::string& path);
+// Parses a spec from text; `file` names it in messages and relative problem paths are resolved
+// against its folder.
+SweepSpec parseSweepSpec(const std::string& text, const std::string& file);
+
+// The grid, in a fixed order (problem, method, parameter values, seed). Loads every problem with
+// each parameter combination (and transcribes it for each method), so that an unknown
+// parameter, a refused value or a method the problem cannot take is an error now, naming the
+// spec's key.
+std::vector<SweepCase> expandSweep(const SweepSpec& spec);
+
+// A value as it appears in ids and commands: shortest text that reads back to the same double.
+std::string formatValue(double x);
+
+}  // namespace saltus::sweep

@@ -1,0 +1,148 @@
+// `saltus sweep`, run as a program: a small sweep end to end (records, summary, report, charts),
+// a sweep killed mid-run and resumed (finished solves kept, the rest run), and a bad spec refused
+// before any solve starts.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/run_saltus.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using saltus::testing::readFile;
+using saltus::testing::runSaltus;
+
+fs::path sweepDir(const std::string& name) { return saltus::testing::scratchPath("sweep_test", name); }
+
+void writeSpec(const fs::path& path, int seeds) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: {from: 1, count: " << seeds
+                      << "}\noptions: {restarts: 0}\n";
+}
+
+std::vector<fs::path> records(const fs::path& out) {
+  std::vector<fs::path> found;
+  if (!fs::exists(out / "runs")) return found;
+  for (const auto& d : fs::directory_iterator(out / "runs"))
+    if (fs::exists(d.path() / "record.json")) found.push_back(d.path() / "record.json");
+  return found;
+}
+
+TEST(CliSweep, SmallSweepWritesRecordsSummaryReportAndCharts) {
+  const fs::path dir = sweepDir("small");
+  writeSpec(dir / "spec.yaml", 2);
+  const auto r = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string(), "--jobs", "2"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  ASSERT_EQ(records(dir / "out").size(), 2u);
+  const nlohmann::json rec =
+      nlohmann::json::parse(readFile(dir / "out/runs/point_mass_drop__impulsive__seed=2/record.json"));
+  EXPECT_EQ(rec["seed"], 2);
+  EXPECT_TRUE(rec["feasible"].get<bool>());
+  EXPECT_TRUE(rec["physical"].get<bool>());  // the replay follows the bounce-free landing
+  EXPECT_LT(rec["replay_deviation"].get<double>(), 1e-3);
+  EXPECT_LE(rec["largest_product"].get<double>(), 1e-4);
+  EXPECT_NE(rec["command"].get<std::string>().find("saltus optimize point_mass_drop --method impulsive --seed 2"),
+            std::string::npos);
+  // The record's figures are the solve's own.
+  const nlohmann::json solve =
+      nlohmann::json::parse(readFile(dir / "out/runs/point_mass_drop__impulsive__seed=2/solution/summary.json"));
+  EXPECT_EQ(rec["iterations"], solve["iterations"]);
+  EXPECT_EQ(rec["objective"], solve["objective"]);
+
+  const nlohmann::json summary = nlohmann::json::parse(readFile(dir / "out/summary.json"));
+  ASSERT_EQ(summary["cells"].size(), 1u);
+  EXPECT_EQ(summary["cells"][0]["solves"], 2);
+  EXPECT_EQ(summary["cells"][0]["successes"], 2);
+  const std::string report = readFile(dir / "out/report.md");
+  EXPECT_NE(report.find("| point_mass_drop | impulsive | – | 2/2 (100 %) |"), std::string::npos) << report;
+  for (const char* chart : {"sweep_time.png", "sweep_error.svg", "sweep_cost.png"})
+    EXPECT_GT(fs::file_size(dir / "out/charts" / chart), 1000u) << chart;
+
+  // Run again: nothing to do, the same records.
+  const auto again = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string()});
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NE(again.err.find("2 of 2 solves have a record (0 run now)"), std::string::npos) << again.err;
+  fs::remove_all(dir);
+}
+
+TEST(CliSweep, KilledSweepResumesWithTheSolvesLeft) {
+  const fs::path dir = sweepDir("resume");
+  writeSpec(dir / "spec.yaml", 4);
+  const std::string spec = (dir / "spec.yaml").string(), out = (dir / "out").string();
+  std::vector<std::string> args = {SALTUS_BINARY, "sweep", spec, "--out", out, "--jobs", "1"};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, SALTUS_BINARY, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  // Kill it once the first solve has its record (the second is then running).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (records(out).empty() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::vector<fs::path> before = records(out);
+  ASSERT_GE(before.size(), 1u);
+  ASSERT_LT(before.size(), 4u);
+  std::map<fs::path, std::string> kept;
+  for (const fs::path& p : before) kept[p] = readFile(p);
+
+  const auto r = runSaltus({"sweep", spec, "--out", out});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(records(out).size(), 4u);
+  for (const auto& [path, text] : kept) EXPECT_EQ(readFile(path), text) << path << " was redone";
+  EXPECT_NE(r.err.find("4 of 4 solves have a record (" + std::to_string(4 - before.size()) + " run now)"),
+            std::string::npos)
+      << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(readFile(dir / "out/summary.json"));
+  EXPECT_EQ(summary["cells"][0]["solves"], 4);
+  fs::remove_all(dir);
+}
+
+TEST(CliSweep, BadSpecIsRefusedBeforeAnySolve) {
+  const fs::path dir = sweepDir("bad");
+  fs::create_directories(dir);
+  std::ofstream(dir / "spec.yaml") << "problems: [point_mass_drop]\nmethods: [impulsive]\nset: {heigth: [0.1]}\nseeds: [1]\n";
+  const auto r = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("problems[0] (point_mass_drop) with heigth=0.1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("height"), std::string::npos) << r.err;  // the parameters the problem has
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  const auto list = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string(), "--list"});
+  EXPECT_EQ(list.status, 1);
+  std::ofstream(dir / "spec.yaml") << "problems: [point_mass_drop]\nmethods: [impulsive, first-order]\nseeds: [1, 5]\n";
+  const auto listed = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", "OUT", "--list"});
+  ASSERT_EQ(listed.status, 0) << listed.err;
+  EXPECT_EQ(std::count(listed.out.begin(), listed.out.end(), '\n'), 4);
+  EXPECT_NE(listed.out.find("saltus optimize point_mass_drop --method first-order --seed 5 --out "
+                            "OUT/runs/point_mass_drop__first-order__seed=5/solution\n"),
+            std::string::npos)
+      << listed.out;
+  fs::remove_all(dir);
+}
+
+}  // namespace

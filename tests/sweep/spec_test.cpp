@@ -1,0 +1,131 @@
+// Sweep specs (sweep/spec.hpp): the grid they expand to (counts, order, stable ids, the
+// saltus optimize arguments of a solve), paths relative to the spec, and refusals that name the
+// file, line and key before any solve starts.
+#include "sweep/spec.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "saltus/build_paths.hpp"
+#include "scene/yaml_reader.hpp"
+
+namespace saltus::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string errorOf(const std::string& text, const std::string& file = "spec.yaml") {
+  try {
+    expandSweep(parseSweepSpec(text, file));
+  } catch (const scene::ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SweepSpec, ExpandsEveryCombinationInAFixedOrder) {
+  const SweepSpec spec = parseSweepSpec(R"(
+problems:
+  - point_mass_drop
+  - {problem: pendulum_conveyor, set: {friction: [0.5, 2]}}
+methods: [impulsive, first-order]
+set: {}
+seeds: {from: 3, count: 2}
+options: {N: 10, restarts: 0, ipopt: {bound_push: 1e-6}}
+)",
+                                        "spec.yaml");
+  ASSERT_EQ(spec.problems.size(), 2u);
+  EXPECT_EQ(spec.seeds, (std::vector<unsigned>{3, 4}));
+  EXPECT_EQ(*spec.options.N, 10);
+  EXPECT_EQ(spec.options.ipopt.at("bound_push"), "1e-6");
+  const std::vector<SweepCase> cases = expandSweep(spec);
+  // drop: 2 methods × 2 seeds; pendulum: 2 frictions × 2 methods × 2 seeds
+  ASSERT_EQ(cases.size(), 4u + 8u);
+  EXPECT_EQ(cases[0].id, "point_mass_drop__impulsive__seed=3");
+  EXPECT_EQ(cases[1].id, "point_mass_drop__impulsive__seed=4");
+  EXPECT_EQ(cases[2].method, "first-order");
+  EXPECT_EQ(cases[4].id, "pendulum_conveyor__impulsive__friction=0.5__seed=3");
+  EXPECT_EQ(cases[4].cell(), "pendulum_conveyor impulsive friction=0.5");
+  std::set<std::string> ids;
+  for (const SweepCase& c : cases) ids.insert(c.id);
+  EXPECT_EQ(ids.size(), cases.size());
+
+  const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
+  const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
+                                             "--set", "friction=0.5", "--N", "10", "--restarts", "0",
+                                             "--ipopt", "bound_push=1e-6", "--out", "OUT"};
+  EXPECT_EQ(args, expected);
+}
+
+TEST(SweepSpec, TopLevelGridCombinesWithAProblemsOwn) {
+  const SweepSpec spec = parseSweepSpec(R"(
+problems: [{problem: point_mass_drop, set: {height: [0.1, 0.2, 0.3]}}]
+methods: [impulsive]
+set: {restitution: [0, 0.5]}
+seeds: [1]
+)",
+                                        "spec.yaml");
+  const std::vector<SweepCase> cases = expandSweep(spec);
+  ASSERT_EQ(cases.size(), 6u);
+  std::set<std::pair<double, double>> pairs;
+  for (const SweepCase& c : cases) pairs.insert({c.set.at("height"), c.set.at("restitution")});
+  EXPECT_EQ(pairs.size(), 6u);
+}
+
+TEST(SweepSpec, ProblemPathsAreRelativeToTheSpec) {
+  const fs::path dir = fs::temp_directory_path() / ("saltus_sweep_spec_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "problems");
+  fs::copy_file(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml", dir / "problems/drop.yaml",
+                fs::copy_options::overwrite_existing);
+  {
+    std::ofstream(dir / "spec.yaml") << "problems: [problems/drop.yaml]\nmethods: [impulsive]\nseeds: [1]\n";
+  }
+  const SweepSpec spec = readSweepSpec((dir / "spec.yaml").string());
+  EXPECT_EQ(fs::path(spec.problems[0].problem), (dir / "problems/drop.yaml").lexically_normal());
+  EXPECT_EQ(expandSweep(spec).size(), 1u);
+  fs::remove_all(dir);
+}
+
+TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
+  EXPECT_EQ(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nrepeats: 3\n"),
+            "spec.yaml:4:1: repeats: unknown key 'repeats'; expected one of: problems, methods, set, seeds, options, "
+            "replay");
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [implicit]\nseeds: [1]\n")
+                .find("spec.yaml:2:11: methods[0]: expected impulsive, continuous or first-order, got 'implicit'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: []\n").find("seeds: expected at least one seed"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1, 1]\n").find("a seed is listed twice"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: {from: 1}\n").find("seeds.count: missing required key 'count'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {N: 0}\n")
+                .find("options.N: expected an integer ≥ 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n---\nseeds: [2]\n")
+                .find("a sweep spec is one YAML document"),
+            std::string::npos);
+  // A parameter the problem does not have: found before any solve, naming the entry.
+  const std::string unknown = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nset: {mass: [1]}\nseeds: [1]\n");
+  EXPECT_NE(unknown.find("spec.yaml: problems[0] (point_mass_drop) with mass=1: "), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("mass"), std::string::npos);
+  // A method the problem cannot take.
+  const std::string method =
+      errorOf("problems: [point_mass_drop]\nmethods: [continuous]\nset: {restitution: [0.5]}\nseeds: [1]\n");
+  EXPECT_NE(method.find("method continuous: the continuous method cannot represent restitution"), std::string::npos)
+      << method;
+}
+
+TEST(SweepSpec, FormatsValuesToReadBackExactly) {
+  EXPECT_EQ(formatValue(0.1), "0.1");
+  EXPECT_EQ(formatValue(2), "2");
+  EXPECT_EQ(std::stod(formatValue(1.0 / 3.0)), 1.0 / 3.0);
+}
+
+}  // namespace
+}  // namespace saltus::sweep
