@@ -15,6 +15,7 @@
 #include "cli/simulation.hpp"
 #include "collocation/problem_file.hpp"
 #include "collocation/saved_solution.hpp"
+#include "collocation/simulation_seed.hpp"
 #include "collocation/solution.hpp"
 #include "collocation/solver.hpp"
 
@@ -30,6 +31,7 @@ struct OptimizeOptions {
   std::string method = "impulsive";
   std::optional<int> P, N;
   std::optional<unsigned> seed;
+  std::string seed_kind;
   std::string seed_from;
   std::optional<double> seed_scale;
   std::optional<int> restarts;
@@ -64,6 +66,13 @@ int optimize(const OptimizeOptions& opt) {
     }
   }
   if (opt.seed) problem.random_seed = *opt.seed;
+  if (!opt.seed_kind.empty()) {
+    if (opt.seed_kind == "null") problem.seed_kind = SeedKind::Null;
+    else if (opt.seed_kind == "perturbed") problem.seed_kind = SeedKind::Perturbed;
+    else if (opt.seed_kind == "simulation") problem.seed_kind = SeedKind::Simulation;
+    else throw UsageError("--seed-kind: expected null, perturbed or simulation, got '" + opt.seed_kind + "'");
+    if (!opt.seed_from.empty()) throw UsageError("--seed-kind: not with --seed-from (which starts from a solution)");
+  }
   if (!opt.seed_from.empty()) {
     problem.seed_kind = SeedKind::Solution;
     problem.seed_solution = opt.seed_from;
@@ -88,10 +97,12 @@ int optimize(const OptimizeOptions& opt) {
   const Transcription t(problem, method);  // refuses what the method cannot represent
   Eigen::VectorXd base = t.nullSeed();
   if (problem.seed_kind == SeedKind::Solution) base = seedFromSolution(t, loadSolution(problem.seed_solution));
+  SimulationSeedReport simulated;
+  if (problem.seed_kind == SeedKind::Simulation) base = seedFromSimulation(t, &simulated);
   // Attempt k (restarts after an infeasible end) perturbs the seed with random_seed + k; the
-  // first attempt from a null seed is the null seed itself.
+  // first attempt from a null or a simulation seed is that seed itself.
   const SeedFunction seed = [&](int k) -> Eigen::VectorXd {
-    if (problem.seed_kind == SeedKind::Null && k == 0) return base;
+    if ((problem.seed_kind == SeedKind::Null || problem.seed_kind == SeedKind::Simulation) && k == 0) return base;
     if (problem.seed_scale <= 0) return base;
     return t.perturb(base, problem.seed_scale, problem.random_seed + static_cast<unsigned>(k));
   };
@@ -99,7 +110,9 @@ int optimize(const OptimizeOptions& opt) {
   so.print_level = opt.print_level;
   so.ipopt = ipopt;
   // Ipopt's warm settings (small μ, small bound push) suit a seed at a solution, not one perturbed away from it.
-  so.warm_seed = problem.seed_kind == SeedKind::Solution && problem.seed_scale <= 1e-3;
+  // A simulation seed is physically consistent: it too is kept where it is.
+  so.warm_seed = (problem.seed_kind == SeedKind::Solution && problem.seed_scale <= 1e-3) ||
+                 problem.seed_kind == SeedKind::Simulation;
   so.restarts = problem.seed_scale > 0 ? problem.restarts : 0;  // without a perturbation every attempt is the same
   const SolveReport r = solve(t, seed, so);
 
@@ -117,8 +130,13 @@ int optimize(const OptimizeOptions& opt) {
   j["N"] = problem.N;
   j["P"] = method == Method::FirstOrder ? 1 : problem.P;
   j["elements"] = t.elements();
-  j["seed"] = problem.seed_kind == SeedKind::Null ? "null" : problem.seed_kind == SeedKind::Perturbed ? "perturbed" : "solution";
+  j["seed"] = problem.seed_kind == SeedKind::Null        ? "null"
+              : problem.seed_kind == SeedKind::Perturbed ? "perturbed"
+              : problem.seed_kind == SeedKind::Solution  ? "solution"
+                                                         : "simulation";
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
+  if (problem.seed_kind == SeedKind::Simulation)
+    j["simulation_seed"] = {{"dt", simulated.dt}, {"impacts", simulated.impacts}, {"passes", simulated.iterations}};
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
@@ -178,6 +196,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--P", opt->P, "collocation points per element (overrides the file)");
   app->add_option("--N", opt->N, "finite elements (overrides the file)");
   app->add_option("--seed", opt->seed, "random seed of the perturbation of the initial guess");
+  app->add_option("--seed-kind", opt->seed_kind,
+                  "initial guess: null, perturbed (the null guess plus random values) or simulation (the time-stepper's "
+                  "motion, mesh on its impacts)");
   app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
   app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
   app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");

@@ -23,6 +23,16 @@ Method parseMethod(const std::string& name) {
                               "; expected one of: " + scene::joinNames(names));
 }
 
+scene::Scene sceneAtMeshTimes(const Problem& problem, const std::vector<double>& element_start) {
+  scene::Scene scene = problem.scene;
+  for (const auto& [surface, steps] : problem.surface_steps) {
+    std::vector<scene::Surface::Step>& schedule = scene.surfaces.at(surface).velocity_schedule;
+    schedule.clear();
+    for (const SurfaceStep& s : steps) schedule.push_back({element_start.at(static_cast<std::size_t>(s.element)), s.velocity});
+  }
+  return scene;
+}
+
 void remesh(Problem& p, int N, int P) {
   if (N < 1) throw std::invalid_argument("N: expected at least 1 element, got " + std::to_string(N));
   if (P < 1) throw std::invalid_argument("P: expected at least 1 collocation point, got " + std::to_string(P));

@@ -69,7 +69,8 @@ struct CostTerms {
 enum class SeedKind {
   Null,       // zero everywhere, positions at the initial state, h = h_max (the paper's default vector)
   Perturbed,  // null, plus uniform random values in [0, seed_scale] on positions and reactions
-  Solution    // an earlier solution (its variables.csv, saved_solution.hpp), perturbed by seed_scale
+  Solution,   // an earlier solution (its variables.csv, saved_solution.hpp), perturbed by seed_scale
+  Simulation  // the time-stepper's motion from the initial state, the mesh on its impacts (simulation_seed.hpp)
 };
 
 enum class TotalTime { Free, Equal, AtLeast };
@@ -124,6 +125,11 @@ struct Problem {
   std::map<std::string, std::string> ipopt_options;
   std::map<std::string, double> parameters;  // the named parameters in use (after --set)
 };
+
+// The problem's scene with every surface velocity step on the mesh (Problem::surface_steps, a
+// step at [element, 0]) placed in time: element_start[n] is the time of [n, 0] (n = 0 … N − 1, a
+// value per problem element). Steps placed so feed a time-stepper (replay, simulation seeds).
+scene::Scene sceneAtMeshTimes(const Problem& problem, const std::vector<double>& element_start);
 
 // Changes the mesh to N elements of P collocation points. A condition at the end of the old
 // mesh ([N − 1, P + 1]) moves to the new end; any other condition must lie inside the new mesh

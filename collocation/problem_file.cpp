@@ -424,9 +424,10 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     if (kind == "null") p_.seed_kind = SeedKind::Null;
     else if (kind == "perturbed") p_.seed_kind = SeedKind::Perturbed;
     else if (kind == "solution") p_.seed_kind = SeedKind::Solution;
+    else if (kind == "simulation") p_.seed_kind = SeedKind::Simulation;
     else
-      r_.fail(s, "solve.seed", "unknown seed '" + kind + "'" + suggestion(kind, {"null", "perturbed", "solution"}) +
-                                   "; expected one of: null, perturbed, solution");
+      r_.fail(s, "solve.seed", "unknown seed '" + kind + "'" + suggestion(kind, {"null", "perturbed", "solution", "simulation"}) +
+                                   "; expected one of: null, perturbed, solution, simulation");
   }
   p_.seed_scale = r_.number(node, "solve", "seed_scale", p_.seed_scale);
   if (!(p_.seed_scale >= 0))

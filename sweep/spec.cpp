@@ -56,7 +56,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed_scale", "hessian", "ipopt"}, true);
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hessian", "ipopt"}, true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
   if (n["P"]) {
@@ -67,6 +67,11 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], "options.seed_scale");
     if (*o.seed_scale < 0) r.fail(n["seed_scale"], "options.seed_scale", "expected a non-negative number");
+  }
+  if (n["seed"]) {
+    o.seed_kind = r.text(n["seed"], "options.seed");
+    if (o.seed_kind != "null" && o.seed_kind != "perturbed" && o.seed_kind != "simulation")
+      r.fail(n["seed"], "options.seed", "expected null, perturbed or simulation, got '" + o.seed_kind + "'");
   }
   if (n["hessian"]) {
     o.hessian = r.text(n["hessian"], "options.hessian");
@@ -208,6 +213,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.N) a.insert(a.end(), {"--N", std::to_string(*o.N)});
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
+  if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});

@@ -51,19 +51,14 @@ bool ReplayResult::withinTolerance() const {
 
 scene::Scene replayScene(const SavedSolution& solution) {
   const collocation::Problem& problem = *solution.problem;
-  scene::Scene scene = problem.scene;
   const CollocationTrajectory traj = solution.trajectory();
   // Steps count the problem's elements; the first-order method has several steps per element.
   const int per_element = solution.transcription->method() == collocation::Method::FirstOrder
                               ? problem.first_order_steps_per_element
                               : 1;
-  for (const auto& [surface, steps] : problem.surface_steps) {
-    std::vector<scene::Surface::Step>& schedule = scene.surfaces.at(surface).velocity_schedule;
-    schedule.clear();
-    for (const collocation::SurfaceStep& s : steps)
-      schedule.push_back({traj.meshTimes().at(static_cast<std::size_t>(s.element * per_element)), s.velocity});
-  }
-  return scene;
+  std::vector<double> element_start;
+  for (int n = 0; n < problem.N; ++n) element_start.push_back(traj.meshTimes().at(static_cast<std::size_t>(n * per_element)));
+  return collocation::sceneAtMeshTimes(problem, element_start);
 }
 
 void checkReplayOptions(const ReplayOptions& o, const SavedSolution& solution) {

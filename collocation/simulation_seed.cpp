@@ -1,0 +1,274 @@
+#include "collocation/simulation_seed.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "collocation/interpolation.hpp"
+#include "timestepper/stepper.hpp"
+
+namespace saltus::collocation {
+
+namespace {
+
+// The simulation on a uniform grid t_k = k dt: the state after every step and what each contact
+// (scene contacts, then limit stops: the transcription's order) did over the step.
+struct Simulated {
+  double dt = 0;
+  std::vector<Eigen::VectorXd> q, v;                       // k = 0 … K
+  std::vector<std::vector<timestepper::ContactReport>> c;  // step k → k + 1, k = 0 … K − 1
+  std::vector<bool> impact;                                // step k is impulsive
+  std::vector<double> impact_time;                         // of an impulsive step: when in it the contact closes
+  std::vector<Eigen::Matrix<double, 3, 2>> tangents;       // per surface, the stepper's basis
+
+  long steps() const { return static_cast<long>(impact.size()); }
+  long stepAt(double t) const { return std::clamp(static_cast<long>(std::floor(t / dt)), 0L, steps() - 1); }
+  // An impulsive step that ends at t (an impact without collision is placed at its step's end).
+  std::optional<long> impulsiveStepEndingAt(double t) const {
+    const long k = std::lround(t / dt) - 1;
+    if (k >= 0 && k < steps() && impact[k] && std::abs(static_cast<double>(k + 1) * dt - t) < 1e-9 * dt) return k;
+    return std::nullopt;
+  }
+  // The first step of the run of impulsive steps at time t (containing it, or ending at it).
+  std::optional<long> impactAt(double t) const {
+    long k = stepAt(t);
+    if (!impact[k]) {
+      const auto e = impulsiveStepEndingAt(t);
+      if (!e) return std::nullopt;
+      k = *e;
+    }
+    while (k > 0 && impact[k - 1]) --k;
+    return k;
+  }
+  // The nearest step to k that is not impulsive (forces, accelerations), k itself when it is not.
+  long smoothStep(long k) const {
+    for (long d = 0; d < steps(); ++d) {
+      if (k - d >= 0 && !impact[k - d]) return k - d;
+      if (k + d < steps() && !impact[k + d]) return k + d;
+    }
+    return k;
+  }
+  // The state at t; inside an impulsive step the state before the impact (Side::Before),
+  // carried forward from the step's start with the acceleration of the smooth step before it, or
+  // after it, carried back from the step's end with the acceleration of the smooth step after it.
+  void state(double t, Side side, Eigen::VectorXd& q_out, Eigen::VectorXd& v_out) const {
+    const long k = side == Side::Before ? impulsiveStepEndingAt(t).value_or(stepAt(t)) : stepAt(t);
+    if (impact[k]) {
+      const long j = side == Side::Before ? std::max(0L, k - 1) : std::min(steps() - 1, k + 1);
+      const Eigen::VectorXd a = impact[j] ? Eigen::VectorXd::Zero(q[k].size()) : Eigen::VectorXd((v[j + 1] - v[j]) / dt);
+      const long i = side == Side::Before ? k : k + 1;
+      const double tau = t - static_cast<double>(i) * dt;  // ≥ 0 before, ≤ 0 after
+      q_out = q[i] + tau * v[i] + 0.5 * tau * tau * a;
+      v_out = v[i] + tau * a;
+      return;
+    }
+    // Cubic Hermite in q through both states (exact for the quadratic free flight that θ = ½
+    // integrates exactly), linear in v.
+    const double s = std::clamp(t / dt - static_cast<double>(k), 0.0, 1.0), s2 = s * s, s3 = s2 * s;
+    q_out = (2 * s3 - 3 * s2 + 1) * q[k] + (s3 - 2 * s2 + s) * dt * v[k] + (-2 * s3 + 3 * s2) * q[k + 1] +
+            (s3 - s2) * dt * v[k + 1];
+    v_out = (1 - s) * v[k] + s * v[k + 1];
+  }
+};
+
+Simulated simulate(const scene::Scene& scene, double dt, double duration) {
+  timestepper::StepperOptions o;
+  o.dt = dt;
+  o.theta = 0.5;
+  timestepper::TimeStepper stepper(scene, o);
+  stepper.reset(scene.q0, scene.v0);
+  Simulated s;
+  s.dt = dt;
+  for (int i = 0; i < static_cast<int>(scene.surfaces.size()); ++i) s.tangents.push_back(stepper.tangentBasis(i));
+  const long K = std::max(1L, static_cast<long>(std::ceil(duration / dt)));
+  s.q.push_back(scene.q0);
+  s.v.push_back(scene.v0);
+  const double jump = 20 * scene.model.gravity.norm() * dt;
+  std::vector<timestepper::ContactReport> start = stepper.contacts();  // before step k
+  try {
+    for (long k = 0; k < K; ++k) {
+      stepper.step();
+      s.q.push_back(stepper.q());
+      s.v.push_back(stepper.v());
+      s.c.push_back(stepper.contacts());
+      // The contact with the largest impulse; the step is impulsive when the velocity changes by
+      // more than finite forces would.
+      int strongest = -1;
+      double largest = 0;
+      for (int c = 0; c < static_cast<int>(stepper.contacts().size()); ++c) {
+        const timestepper::ContactReport& r = stepper.contacts()[c];
+        const double p = r.pn + std::hypot(r.pt1, r.pt2);
+        if (p > largest) largest = p, strongest = c;
+      }
+      const bool impulsive = strongest >= 0 && (s.v[k + 1] - s.v[k]).cwiseAbs().maxCoeff() > jump;
+      s.impact.push_back(impulsive);
+      // When the contact closes within the step: its gap at the start over its approach speed
+      // (0 for a contact that was closed: an impact without collision).
+      // A contact that was closed (an impact without collision, e.g. a belt's step): at the step's
+      // end, where a surface's velocity step acts.
+      double t_close = static_cast<double>(k + 1) * dt;
+      if (impulsive && k > 0 && start[strongest].gap > 0 && start[strongest].vn < 0)
+        t_close = static_cast<double>(k) * dt + std::min(dt, start[strongest].gap / -start[strongest].vn);
+      s.impact_time.push_back(t_close);
+      start = stepper.contacts();
+    }
+  } catch (const timestepper::SimulationError& e) {
+    throw std::runtime_error(std::string("simulation seed: the time-stepper failed: ") + e.what());
+  }
+  return s;
+}
+
+// The element lengths that put each impact on the nearest boundary (see the header).
+// An impact within 1.5 dt of a surface's step on the mesh is that step's (its time is the mesh's).
+std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> impacts, const std::vector<double>& starts,
+                              double dt, std::vector<double>& placed) {
+  for (double& t : impacts)
+    for (const auto& [surface, steps] : p.surface_steps)
+      for (const SurfaceStep& s : steps)
+        if (std::abs(t - starts[s.element]) < 1.5 * dt) t = starts[s.element];
+  const int N = p.N;
+  const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
+  // Anchors: (boundary index, time), strictly increasing in both.
+  std::vector<std::pair<int, double>> anchors = {{0, 0.0}};
+  for (double t : impacts) {
+    const int b = std::clamp(static_cast<int>(std::lround(t / h0)), 1, N - 1);
+    if (N < 2 || b <= anchors.back().first) continue;
+    // Reachable from the previous anchor with lengths in [h_min, h_max].
+    const int steps = b - anchors.back().first;
+    const double span = t - anchors.back().second;
+    if (span < steps * h_min || span > steps * h_max) continue;
+    anchors.push_back({b, t});
+  }
+  placed.clear();
+  for (std::size_t i = 1; i < anchors.size(); ++i) placed.push_back(anchors[i].second);
+  std::vector<double> h(N, h0);
+  for (std::size_t i = 0; i + 1 < anchors.size(); ++i) {
+    const auto [b0, t0] = anchors[i];
+    const auto [b1, t1] = anchors[i + 1];
+    for (int n = b0; n < b1; ++n) h[n] = (t1 - t0) / (b1 - b0);
+  }
+  // After the last impact: the total time's condition.
+  const auto [b_last, t_last] = anchors.back();
+  double rest = h0;
+  if (p.total_time_kind == TotalTime::Equal) rest = (p.total_time - t_last) / (N - b_last);
+  if (p.total_time_kind == TotalTime::AtLeast) rest = std::max(h0, (p.total_time - t_last) / (N - b_last));
+  for (int n = b_last; n < N; ++n) h[n] = std::clamp(rest, h_min, h_max);
+  return h;
+}
+
+}  // namespace
+
+Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report) {
+  const Problem& p = t.problem();
+  const int N = p.N, nv = p.scene.model.nv();
+  const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
+  double h0 = 0.5 * (h_min + h_max);
+  if (p.total_time_kind == TotalTime::Equal) h0 = p.total_time / N;
+  if (p.total_time_kind == TotalTime::AtLeast) h0 = std::max(h0, p.total_time / N);
+  h0 = std::clamp(h0, h_min, h_max);
+  const double dt = h0 / 40;
+
+  auto starts = [&](const std::vector<double>& h) {
+    std::vector<double> s(N + 1, 0.0);
+    for (int n = 0; n < N; ++n) s[n + 1] = s[n] + h[n];
+    return s;
+  };
+  // Mesh ↔ simulation: a surface stepping on the mesh steps at its mesh point's time.
+  std::vector<double> h(N, h0), placed;
+  Simulated sim;
+  int iterations = 0;
+  for (;;) {
+    ++iterations;
+    const std::vector<double> simulated_starts = starts(h);
+    sim = simulate(sceneAtMeshTimes(p, simulated_starts), dt, N * h_max + dt);
+    std::vector<double> impacts;
+    for (long k = 0; k < sim.steps(); ++k)
+      if (sim.impact[k] && (k == 0 || !sim.impact[k - 1])) impacts.push_back(sim.impact_time[k]);
+    h = placeMesh(p, h0, impacts, simulated_starts, dt, placed);
+    const std::vector<double> now = starts(h);
+    bool moved = false;
+    for (const auto& [surface, steps] : p.surface_steps)
+      for (const SurfaceStep& s : steps) moved = moved || std::abs(now[s.element] - simulated_starts[s.element]) > 0.5 * dt;
+    if (!moved || iterations == 4) break;
+  }
+
+  // Resample onto the transcription's points (the first-order method: several steps per element).
+  Eigen::VectorXd x = t.nullSeed();
+  const int per_element = t.method() == Method::FirstOrder ? p.first_order_steps_per_element : 1;
+  const auto& contacts = t.contacts();
+  const int nu = static_cast<int>(p.inputs.size());
+  Eigen::VectorXd q, v, q_before, v_before;
+  double t0 = 0;
+  for (int m = 0; m < t.elements(); ++m) {
+    const ElementLayout& L = t.layout()[m];
+    const double hm = h[m / per_element] / per_element;
+    x[L.h] = hm;
+    // The impulsive steps at this boundary (the impulsive [n, 0]).
+    const std::optional<long> impact_here = m > 0 ? sim.impactAt(t0) : std::nullopt;
+    for (std::size_t pi = 0; pi < L.points.size(); ++pi) {
+      const double time = t0 + hm * L.tau[pi];
+      const bool start = pi == 0, end = static_cast<int>(pi) == L.end;
+      sim.state(time, end ? Side::Before : Side::After, q, v);
+      const auto& pt = L.points[pi];
+      x.segment(pt.q, nv) = q;
+      x.segment(pt.v, nv) = v;
+      if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu).setZero();
+      const long k = sim.smoothStep(sim.stepAt(time));
+      if (pt.a >= 0) {
+        if (start) {
+          sim.state(time, Side::Before, q_before, v_before);
+          x.segment(pt.a, nv) = v - v_before;  // Δq̇ at [n, 0]
+        } else {
+          x.segment(pt.a, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt;
+        }
+      }
+      for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const auto& C = L.contacts[c];
+        if (C.rn[pi] < 0) continue;
+        // At an impulsive [n, 0] the impulse of the impact steps there; elsewhere the mean force.
+        double pn = 0, pt1 = 0, pt2 = 0;
+        if (start) {
+          for (long j = impact_here.value_or(sim.steps()); j < sim.steps() && sim.impact[j]; ++j) {
+            pn += sim.c[j][c].pn;
+            pt1 += sim.c[j][c].pt1;
+            pt2 += sim.c[j][c].pt2;
+          }
+        } else {
+          pn = sim.c[k][c].pn / sim.dt;
+          pt1 = sim.c[k][c].pt1 / sim.dt;
+          pt2 = sim.c[k][c].pt2 / sim.dt;
+        }
+        x[C.rn[pi]] = pn;
+        const ContactPoint& cp = contacts[c];
+        if (cp.k() == 0 || cp.is_limit) continue;
+        const Eigen::Matrix<double, 3, 2>& T = sim.tangents.at(cp.surface);
+        const Eigen::Vector3d f_t = pt1 * T.col(0) + pt2 * T.col(1);
+        const timestepper::ContactReport& r = sim.c[sim.stepAt(time)][c];
+        const Eigen::Vector3d v_t = r.vt1 * T.col(0) + r.vt2 * T.col(1);
+        int best = 0;
+        for (int i = 1; i < cp.k(); ++i)
+          if (cp.directions.col(i).dot(f_t) > cp.directions.col(best).dot(f_t)) best = i;
+        const double along = std::max(0.0, cp.directions.col(best).dot(f_t));
+        if (t.method() == Method::FirstOrder)
+          x[C.t[pi] + best] = along;  // β: the friction force along d_best
+        else if (cp.mu * pn > 0)
+          x[C.t[pi] + best] = std::min(1.0, along / (cp.mu * pn));  // α (eq. 11)
+        double gamma = 0;
+        for (int i = 0; i < cp.k(); ++i) gamma = std::max(gamma, cp.directions.col(i).dot(v_t));
+        x[C.gamma[pi]] = gamma;  // the slip speed bound (eq. 12)
+      }
+    }
+    t0 += hm;
+  }
+  t.makeConsistent(x);
+  if (report) {
+    report->dt = dt;
+    report->impacts = placed;
+    report->mesh_times = starts(h);
+    report->iterations = iterations;
+  }
+  return x;
+}
+
+}  // namespace saltus::collocation

@@ -1,0 +1,37 @@
+// A starting point for a transcription from Saltus' own time-stepper (timestepper/stepper.hpp):
+// the problem's scene simulated from its initial state with the inputs at zero, the mesh placed
+// so that element boundaries fall on the simulated impacts, and the simulation resampled onto
+// it. The paper closes on this question ("how these seeds can be obtained for truly unknown
+// contact sequences", §VII); a simulation gives a seed that is physically consistent from the
+// start: states, velocity jumps Δq̇ at the boundaries, contact forces and impulses, friction
+// activations and slip bounds.
+//
+// The mesh: elements of equal length h0 (the total time T / N when it is fixed, else the middle
+// of the length bounds, and at least T / N when T is a lower bound); each impact (a step of the
+// simulation whose velocity change exceeds 20 g dt while a contact carries an impulse; a run of
+// such steps is one impact, at its first step) is moved to the nearest element boundary, and the
+// elements between consecutive impacts share the time between them equally (within the length
+// bounds). A surface whose velocity steps on the mesh steps at its mesh point's time, so the mesh
+// and the simulation are iterated (at most 4 times) until the steps stay where they were
+// simulated.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "collocation/transcription.hpp"
+
+namespace saltus::collocation {
+
+struct SimulationSeedReport {
+  double dt = 0;                    // the simulation's step
+  std::vector<double> impacts;      // times of the impacts found (after placing on the mesh)
+  std::vector<double> mesh_times;   // the problem's element boundaries (N + 1 values)
+  int iterations = 0;               // mesh–simulation passes
+};
+
+// Throws std::runtime_error (naming the time-stepper's failure) when the simulation fails.
+Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report = nullptr);
+
+}  // namespace saltus::collocation

@@ -1,0 +1,115 @@
+// Seeds from the time-stepper (collocation/simulation_seed.hpp): the drop's landing placed on an
+// element boundary at the analytic time with the analytic velocity jump and impulse, free flight
+// exact before it and the static reaction after it; the belt's step of the pendulum found as an
+// impact without collision at its mesh point; the first-order layout filled; and the seeds solve.
+#include "collocation/simulation_seed.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "collocation/solver.hpp"
+#include "tests/support/problems.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+constexpr double kGravity = 9.81;
+
+TEST(SimulationSeed, DropLandsOnAnElementBoundaryWithTheAnalyticJump) {
+  for (const double e : {0.0, 0.5}) {
+    const double height = 0.1;
+    const Problem p = testing::pointMassDrop(e, height);
+    const Transcription t(p, Method::Impulsive);
+    SimulationSeedReport report;
+    const Eigen::VectorXd x = seedFromSimulation(t, &report);
+    const double t_land = std::sqrt(2 * height / kGravity), v_land = kGravity * t_land;
+    ASSERT_GE(report.impacts.size(), 1u) << "e = " << e;
+    EXPECT_NEAR(report.impacts[0], t_land, 1.5 * report.dt);
+    // The boundary at the landing: Δv = (1 + e) v, impulse m (1 + e) v (m = 1 kg), element
+    // lengths within their bounds, the boundary at the impact time.
+    int landing = -1;
+    double time = 0;
+    for (int n = 0; n < t.elements(); ++n) {
+      const double h = x[t.layout()[n].h];
+      EXPECT_GE(h, t.variableLower()[t.layout()[n].h] - 1e-12);
+      EXPECT_LE(h, t.variableUpper()[t.layout()[n].h] + 1e-12);
+      if (landing < 0 && std::abs(time - report.impacts[0]) < 1e-9) landing = n;
+      time += h;
+    }
+    ASSERT_GT(landing, 0) << "no boundary at the impact";
+    const auto& L = t.layout()[landing];
+    EXPECT_NEAR(x[L.points[0].a], (1 + e) * v_land, 0.02 * v_land) << "e = " << e;
+    EXPECT_NEAR(x[L.contacts[0].rn[0]], (1 + e) * v_land, 0.02 * v_land);
+    const auto& before = t.layout()[landing - 1];
+    EXPECT_NEAR(x[before.points[before.end].v], -v_land, 0.01 * v_land);
+    // Free flight before the landing: θ = ½ integrates it exactly.
+    double t0 = 0;
+    for (int n = 0; n < landing; ++n) {
+      const auto& E = t.layout()[n];
+      for (std::size_t q = 0; q < E.points.size(); ++q) {
+        const double tq = t0 + x[E.h] * E.tau[q];
+        // (the landing's time is estimated from the gap and speed at its step's start: 1e-7 m)
+        const double z = height - 0.5 * kGravity * tq * tq;
+        EXPECT_NEAR(x[E.points[q].q], z, 1e-7) << "[" << n << "," << q << "]";
+        EXPECT_NEAR(x[E.points[q].v], -kGravity * tq, 1e-6);
+        EXPECT_NEAR(x[E.contacts[0].y[q]], std::max(0.0, z), 1e-7);
+      }
+      t0 += x[E.h];
+    }
+    if (e == 0) {  // resting after the landing: the reaction holds the weight
+      const auto& R = t.layout()[landing + 1];
+      for (int c : R.collocation) {
+        EXPECT_NEAR(x[R.contacts[0].rn[c]], kGravity, 1e-6);
+        EXPECT_NEAR(x[R.points[c].q], 0, 1e-9);
+      }
+    }
+  }
+}
+
+TEST(SimulationSeed, BeltStepIsAnImpactWithoutCollisionAtItsMeshPoint) {
+  const Problem p = testing::pendulumConveyor(2.0, 0.5);
+  const Transcription t(p, Method::Impulsive);
+  SimulationSeedReport report;
+  const Eigen::VectorXd x = seedFromSimulation(t, &report);
+  ASSERT_EQ(report.impacts.size(), 1u);
+  EXPECT_NEAR(report.impacts[0], report.mesh_times[5], 1e-12);  // the belt steps at [6, 0]
+  const auto& L = t.layout()[5];
+  EXPECT_GT(x[L.contacts[0].rn[0]], 0.1);  // the tangential impulse comes with a normal one
+  EXPECT_GT(x.segment(L.points[0].a, 2).norm(), 0.5);  // Δq̇ of the joints
+  // Before the step the tip rests on the belt: no jump, reactions at the collocation points.
+  const auto& R = t.layout()[2];
+  for (int c : R.collocation) EXPECT_GT(x[R.contacts[0].rn[c]], 1.0);
+  EXPECT_NEAR(x[t.layout()[3].points[0].a], 0, 1e-12);
+}
+
+TEST(SimulationSeed, FillsTheFirstOrderSteps) {
+  const Problem p = testing::pointMassDrop(0.0);
+  const Transcription t(p, Method::FirstOrder);
+  SimulationSeedReport report;
+  const Eigen::VectorXd x = seedFromSimulation(t, &report);
+  EXPECT_EQ(static_cast<int>(report.mesh_times.size()), p.N + 1);
+  double time = 0, total = 0;
+  for (const auto& L : t.layout()) total += x[L.h];
+  EXPECT_NEAR(total, report.mesh_times.back(), 1e-12);
+  for (const auto& L : t.layout()) {
+    time += x[L.h];
+    if (time < report.impacts.at(0) - 1e-9) {
+      EXPECT_NEAR(x[L.points[1].q], 0.1 - 0.5 * kGravity * time * time, 1e-9);
+    }
+  }
+}
+
+TEST(SimulationSeed, SeedsOfTheDropSolveWithoutRestarts) {
+  for (const double e : {0.0, 0.5}) {
+    const Problem p = testing::pointMassDrop(e);
+    const Transcription t(p, Method::Impulsive);
+    SolveOptions o;
+    o.warm_seed = true;  // as saltus optimize --seed-kind simulation: the seed is near a solution
+    const SolveReport r = solve(t, seedFromSimulation(t), o);
+    EXPECT_TRUE(r.feasible) << "e = " << e << ": " << r.stages.back().status << ", largest product " << r.largest_product;
+  }
+}
+
+}  // namespace
+}  // namespace saltus::collocation
