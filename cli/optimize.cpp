@@ -143,6 +143,7 @@ int optimize(const OptimizeOptions& opt) {
   j["feasible"] = r.feasible;
   j["objective"] = r.objective;
   j["largest_product"] = r.largest_product;
+  j["largest_product_at"] = r.largest_product_at;
   j["complementarity_tolerance"] = problem.complementarity_tolerance;
   j["iterations"] = r.iterations;
   j["wall_seconds"] = r.wall_seconds;
@@ -178,7 +179,7 @@ int optimize(const OptimizeOptions& opt) {
 
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
             << (r.feasible ? "feasible" : "NOT feasible") << " (" << r.stages.back().status << ", largest product "
-            << r.largest_product << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
+            << r.largest_product << (r.largest_product_at.empty() ? "" : " at " + r.largest_product_at) << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
             << r.evaluation_seconds << " s evaluating"
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
             << opt.out << "\n";

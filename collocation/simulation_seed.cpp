@@ -245,18 +245,24 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
         const Eigen::Matrix<double, 3, 2>& T = sim.tangents.at(cp.surface);
         const Eigen::Vector3d f_t = pt1 * T.col(0) + pt2 * T.col(1);
         const timestepper::ContactReport& r = sim.c[sim.stepAt(time)][c];
-        const Eigen::Vector3d v_t = r.vt1 * T.col(0) + r.vt2 * T.col(1);
-        int best = 0;
-        for (int i = 1; i < cp.k(); ++i)
-          if (cp.directions.col(i).dot(f_t) > cp.directions.col(best).dot(f_t)) best = i;
-        const double along = std::max(0.0, cp.directions.col(best).dot(f_t));
-        if (t.method() == Method::FirstOrder)
-          x[C.t[pi] + best] = along;  // β: the friction force along d_best
-        else if (cp.mu * pn > 0)
-          x[C.t[pi] + best] = std::min(1.0, along / (cp.mu * pn));  // α (eq. 11)
-        double gamma = 0;
-        for (int i = 0; i < cp.k(); ++i) gamma = std::max(gamma, cp.directions.col(i).dot(v_t));
-        x[C.gamma[pi]] = gamma;  // the slip speed bound (eq. 12)
+        const Eigen::Vector3d v_t = r.vt1 * T.col(0) + r.vt2 * T.col(1);  // the slip
+        // The direction d_i closest to a vector.
+        auto closest = [&](const Eigen::Vector3d& w) {
+          int best = 0;
+          for (int i = 1; i < cp.k(); ++i)
+            if (cp.directions.col(i).dot(w) > cp.directions.col(best).dot(w)) best = i;
+          return best;
+        };
+        if (t.method() == Method::FirstOrder) {
+          const int i = closest(f_t);  // β: the friction force along d_i
+          x[C.t[pi] + i] = std::max(0.0, cp.directions.col(i).dot(f_t));
+        } else if (v_t.norm() > 1e-6) {
+          x[C.t[pi] + closest(v_t)] = 1;  // sliding (or open): Σα = 1 along the slip (eqs. 11–13)
+        } else if (cp.mu * pn > 0) {
+          // sticking: the force −μ r_n Σ d_i α_i (eq. 11) is the simulated friction f_t
+          const int i = closest(-f_t);
+          x[C.t[pi] + i] = std::min(1.0, std::max(0.0, -cp.directions.col(i).dot(f_t)) / (cp.mu * pn));
+        }
       }
     }
     t0 += hm;

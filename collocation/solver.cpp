@@ -124,7 +124,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   x_out = nlp->solution().size() == t.variables() ? nlp->solution() : x0;
   multipliers_out = nlp->multipliers();
   r.objective = nlp->solution().size() == t.variables() ? nlp->objective() : 0;
-  r.largest_product = t.largestProduct(x_out);
+  r.largest_product = t.largestProduct(x_out, &r.largest_product_at);
   const Eigen::VectorXd g = nlp->constraints(x_out);
   r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
   report.jacobian_nonzeros = nlp->jacobianNonzeros();
@@ -164,7 +164,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     }
   }
   report.x = x;
-  report.largest_product = t.largestProduct(x);
+  report.largest_product = t.largestProduct(x, &report.largest_product_at);
   report.objective = report.note.empty() ? report.stages.back().objective : report.stages.front().objective;
   bool all = true;
   for (const StageReport& s : report.stages) {

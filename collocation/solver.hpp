@@ -24,6 +24,7 @@ struct StageReport {
   int iterations = 0;
   double objective = 0;
   double largest_product = 0;
+  std::string largest_product_at;  // the product's constraint name
   double largest_violation = 0;   // of a constraint's bounds (before the products' ε), at its end
   double wall_seconds = 0;
   double evaluation_seconds = 0;  // in our function and derivative callbacks
@@ -47,6 +48,7 @@ struct SolveReport {
   Eigen::VectorXd x;      // the last stage's solution
   bool feasible = false;  // every stage succeeded and every product ≤ tolerance
   double largest_product = 0;
+  std::string largest_product_at;  // the product's constraint name (e.g. "impact.ball[10,0]")
   double objective = 0;   // the last stage's objective
   double wall_seconds = 0, evaluation_seconds = 0;
   int iterations = 0;

@@ -164,6 +164,8 @@ void Transcription::buildVariables() {
       C.rn.assign(npts, -1);
       C.t.assign(npts, -1);
       C.gamma.assign(npts, -1);
+      C.psi.assign(npts, -1);
+      C.slip_block.assign(npts, -1);
       for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
       std::vector<int> force_points = L.collocation;
       if (jump) force_points.insert(force_points.begin(), 0);
@@ -256,7 +258,7 @@ void Transcription::buildElementConstraints(int n) {
 
 void Transcription::buildContactConstraints(int n) {
   if (contacts_.empty()) return;
-  const ElementLayout& L = layout_[n];
+  ElementLayout& L = layout_[n];
   const bool fo = method_ == Method::FirstOrder;
   const int npts = static_cast<int>(L.points.size());
   const int nc = static_cast<int>(contacts_.size());
@@ -269,7 +271,7 @@ void Transcription::buildContactConstraints(int n) {
   }
   for (int c = 0; c < nc; ++c) {
     const ContactPoint& cp = contacts_[c];
-    const auto& C = L.contacts[c];
+    auto& C = L.contacts[c];
     const std::string tag = cp.name;
     // (9) at an impulsive [n, 0].
     if (C.a_plus >= 0) {
@@ -282,7 +284,7 @@ void Transcription::buildContactConstraints(int n) {
       vars.push_back(C.a_minus);
       if (!restitution_[c])
         restitution_[c] = std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]});
-      addBlock(restitution_[c], vars, 0, 0, "restitution." + tag + at(n, 0));
+      layout_[n].contacts[c].restitution_block = addBlock(restitution_[c], vars, 0, 0, "restitution." + tag + at(n, 0));
       addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0], C.a_plus, C.a_minus}, Eigen::Vector3d::Ones(), 0,
                  "impact." + tag + at(n, 0));
       // a⁺ ⊥ a⁻, so that a⁺ + a⁻ = |ẏ[n,0] + e ẏ[n−1,P+1]|: without it the pair is free whenever
@@ -316,7 +318,8 @@ void Transcription::buildContactConstraints(int n) {
       for (int v : range(L.points[p].v, nv_)) vars.push_back(v);
       vars.push_back(C.gamma[p]);
       for (int i = 0; i < cp.k(); ++i) vars.push_back(psi + i);
-      addBlock(std::make_shared<AdFunction<SlipSlack>>(s), vars, 0, 0, "slip." + tag + at(n, p));
+      C.psi[p] = psi;
+      C.slip_block[p] = addBlock(std::make_shared<AdFunction<SlipSlack>>(s), vars, 0, 0, "slip." + tag + at(n, p));
       for (int i = 0; i < cp.k(); ++i)
         addProduct({C.t[p] + i}, Eigen::VectorXd::Ones(1), 0, {psi + i}, Eigen::VectorXd::Ones(1), 0,
                    "direction." + tag + at(n, p) + "." + std::to_string(i));
@@ -449,14 +452,18 @@ Eigen::Vector3d Transcription::surfaceVelocity(int surface, int element) const {
   return v;
 }
 
-double Transcription::largestProduct(const Eigen::VectorXd& x) const {
+double Transcription::largestProduct(const Eigen::VectorXd& x, std::string* where) const {
   double worst = 0;
   Eigen::VectorXd local;
   for (int b : product_blocks_) {
     const Block& blk = blocks_[b];
     local.resize(blk.vars.size());
     for (std::size_t i = 0; i < blk.vars.size(); ++i) local[i] = x[blk.vars[i]];
-    worst = std::max(worst, static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
+    const double product = static_cast<const ComplementarityProduct&>(*blk.f).product(local.data());
+    if (product > worst) {
+      worst = product;
+      if (where) *where = g_names_[blk.row];
+    }
   }
   return worst;
 }
@@ -470,6 +477,52 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
         x[L.contacts[c].y[p]] = std::max(0.0, contacts_[c].gap(data, x.data() + L.points[p].q));
     }
   x = x.cwiseMax(x_lower_hint_).cwiseMin(x_upper_hint_);
+  // a⁺ − a⁻ = ẏ[n, 0] + e ẏ[n − 1, P + 1] (9a) with a⁺ a⁻ = 0: the balance is linear in the pair.
+  Eigen::VectorXd local;
+  double residual[2];
+  for (const auto& L : layout_)
+    for (const auto& C : L.contacts) {
+      if (C.restitution_block < 0) continue;
+      const Block& blk = blocks_[C.restitution_block];
+      local.resize(blk.vars.size());
+      for (std::size_t j = 0; j < blk.vars.size(); ++j) local[j] = x[blk.vars[j]];
+      const int ip = static_cast<int>(blk.vars.size()) - 2, im = ip + 1;  // a⁺, a⁻ are its last inputs
+      local[ip] = local[im] = 0;
+      blk.f->value(local.data(), &residual[0]);
+      local[ip] = 1;
+      blk.f->value(local.data(), &residual[1]);
+      const double difference = -residual[0] / (residual[1] - residual[0]);
+      x[C.a_plus] = std::max(0.0, difference);
+      x[C.a_minus] = std::max(0.0, -difference);
+    }
+  // γ at the largest slip projection and ψ_i = γ − d_iᵀ v_t (12): the slip block is
+  // ψ_i − γ ± d_iᵀ v_t with γ and ψ its last 1 + k inputs.
+  std::vector<double> projection;
+  for (const auto& L : layout_)
+    for (std::size_t c = 0; c < L.contacts.size(); ++c) {
+      const auto& C = L.contacts[c];
+      const int k = contacts_[c].k();
+      for (std::size_t p = 0; p < C.slip_block.size(); ++p) {
+        if (C.slip_block[p] < 0) continue;
+        const Block& blk = blocks_[C.slip_block[p]];
+        local.resize(blk.vars.size());
+        for (std::size_t j = 0; j < blk.vars.size(); ++j) local[j] = x[blk.vars[j]];
+        const int first = static_cast<int>(blk.vars.size()) - 1 - k;  // γ
+        local.segment(first, 1 + k).setZero();
+        projection.resize(k);
+        blk.f->value(local.data(), projection.data());
+        const double gamma = std::max(0.0, *std::max_element(projection.begin(), projection.end()));
+        x[C.gamma[p]] = gamma;
+        for (int i = 0; i < k; ++i) x[C.psi[p] + i] = gamma - projection[i];
+      }
+    }
+  // Each penalty variable at its product (eq. 8: A·B ≤ ε holds at the start).
+  for (std::size_t i = 0; i < product_blocks_.size(); ++i) {
+    const Block& blk = blocks_[product_blocks_[i]];
+    local.resize(blk.vars.size());
+    for (std::size_t j = 0; j < blk.vars.size(); ++j) local[j] = x[blk.vars[j]];
+    x[epsilon_[i]] = std::max(0.0, static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
+  }
 }
 
 Eigen::VectorXd Transcription::nullSeed() const {

@@ -58,7 +58,10 @@ struct ElementLayout {
     std::vector<int> rn;     // normal reaction (impulse at an impulsive [n, 0]), per point, −1 where none
     std::vector<int> t;      // first tangential variable (α or β), per point
     std::vector<int> gamma;  // slip-speed bound γ, per point
+    std::vector<int> psi;         // first slip slack ψ (12), per point, −1 where none
+    std::vector<int> slip_block;  // the block defining ψ, in blocks(), per point
     int a_plus = -1, a_minus = -1;  // (9)
+    int restitution_block = -1;     // (9a), in blocks()
   };
   std::vector<ContactVars> contacts;
 };
@@ -91,8 +94,9 @@ class Transcription {
   // The complementarity products (paper eq. 8): their blocks and penalty variables ε.
   const std::vector<int>& productBlocks() const { return product_blocks_; }
   const std::vector<int>& penaltyVariables() const { return epsilon_; }
-  // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance).
-  double largestProduct(const Eigen::VectorXd& x) const;
+  // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance); `where` gets the
+  // name of that product's constraint (e.g. "impact.ball[10,0]"), untouched when all are ≤ 0.
+  double largestProduct(const Eigen::VectorXd& x, std::string* where = nullptr) const;
 
   // The surface velocity a contact sees at element n (steps on the mesh, problem.hpp).
   Eigen::Vector3d surfaceVelocity(int surface, int element) const;
@@ -103,7 +107,8 @@ class Transcription {
   // Uniform random values in [0, scale] added to positions and normal reactions (paper §V.C),
   // then gaps recomputed; a fixed random seed makes it reproducible.
   Eigen::VectorXd perturb(const Eigen::VectorXd& x, double scale, unsigned seed) const;
-  // Gap variables set from the positions (clipped at 0), and variables projected into bounds.
+  // Gap variables set from the positions (clipped at 0), variables projected into bounds, and
+  // each penalty variable ε set to its product A·B (at least 0).
   void makeConsistent(Eigen::VectorXd& x) const;
 
  private:
