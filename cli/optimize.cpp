@@ -15,7 +15,7 @@
 #include "cli/simulation.hpp"
 #include "collocation/problem_file.hpp"
 #include "collocation/saved_solution.hpp"
-#include "collocation/simulation_seed.hpp"
+#include "collocation/seeding.hpp"
 #include "collocation/solution.hpp"
 #include "collocation/solver.hpp"
 
@@ -95,26 +95,13 @@ int optimize(const OptimizeOptions& opt) {
   problem.derivative_check = problem.derivative_check || opt.derivative_check;
 
   const Transcription t(problem, method);  // refuses what the method cannot represent
-  Eigen::VectorXd base = t.nullSeed();
-  if (problem.seed_kind == SeedKind::Solution) base = seedFromSolution(t, loadSolution(problem.seed_solution));
-  SimulationSeedReport simulated;
-  if (problem.seed_kind == SeedKind::Simulation) base = seedFromSimulation(t, &simulated);
-  // Attempt k (restarts after an infeasible end) perturbs the seed with random_seed + k; the
-  // first attempt from a null or a simulation seed is that seed itself.
-  const SeedFunction seed = [&](int k) -> Eigen::VectorXd {
-    if ((problem.seed_kind == SeedKind::Null || problem.seed_kind == SeedKind::Simulation) && k == 0) return base;
-    if (problem.seed_scale <= 0) return base;
-    return t.perturb(base, problem.seed_scale, problem.random_seed + static_cast<unsigned>(k));
-  };
+  const Seeding seeding = makeSeeding(t);
+  const SimulationSeedReport& simulated = seeding.simulation;
   SolveOptions so;
   so.print_level = opt.print_level;
   so.ipopt = ipopt;
-  // Ipopt's warm settings (small μ, small bound push) suit a seed at a solution, not one perturbed away from it.
-  // A simulation seed is physically consistent: it too is kept where it is.
-  so.warm_seed = (problem.seed_kind == SeedKind::Solution && problem.seed_scale <= 1e-3) ||
-                 problem.seed_kind == SeedKind::Simulation;
-  so.restarts = problem.seed_scale > 0 ? problem.restarts : 0;  // without a perturbation every attempt is the same
-  const SolveReport r = solve(t, seed, so);
+  so.restarts = seeding.restarts;
+  const SolveReport r = solve(t, seeding.seed, so);
 
   fs::create_directories(opt.out);
   const std::vector<Sample> samples = trajectory(t, r.x);
@@ -136,7 +123,7 @@ int optimize(const OptimizeOptions& opt) {
                                                          : "simulation";
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
   if (problem.seed_kind == SeedKind::Simulation)
-    j["simulation_seed"] = {{"dt", simulated.dt}, {"impacts", simulated.impacts}, {"passes", simulated.iterations}};
+    j["simulation_seed"] = {{"dt", simulated.dt}, {"events", simulated.events}, {"passes", simulated.iterations}};
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;

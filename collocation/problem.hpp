@@ -110,7 +110,7 @@ struct Problem {
   // Solve.
   double complementarity_tolerance = 1e-4;  // feasible when every product ≤ this (paper §III)
   bool task_stage = true;                   // run the task stage when the cost has a task term
-  SeedKind seed_kind = SeedKind::Perturbed;
+  SeedKind seed_kind = SeedKind::Simulation;
   double seed_scale = 0.1;
   unsigned random_seed = 1;
   // Further attempts when a solve ends infeasible (a local minimum of the penalty, paper §VI):

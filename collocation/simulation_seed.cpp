@@ -20,6 +20,7 @@ struct Simulated {
   std::vector<std::vector<timestepper::ContactReport>> c;  // step k → k + 1, k = 0 … K − 1
   std::vector<bool> impact;                                // step k is impulsive
   std::vector<double> impact_time;                         // of an impulsive step: when in it the contact closes
+  std::vector<double> transitions;  // times a contact opened, closed without impact, stuck or began to slide
   std::vector<Eigen::Matrix<double, 3, 2>> tangents;       // per surface, the stepper's basis
 
   long steps() const { return static_cast<long>(impact.size()); }
@@ -72,6 +73,52 @@ struct Simulated {
   }
 };
 
+// Each contact's mode after every step (open; closed and sticking; closed and sliding), and the
+// times it changes for at least `kPersist` steps. A change within an impulsive step is the
+// impact's own and not listed; a slip that stops is placed at its step's end, other changes at
+// their step's start.
+class ModeTracker {
+ public:
+  explicit ModeTracker(const scene::Scene& scene) {
+    for (const scene::Contact& c : scene.contacts) friction_.push_back(c.friction > 0);
+    friction_.resize(scene.contacts.size() + scene.limits.size(), false);
+    mode_.assign(friction_.size(), kUnknown);
+    candidate_.assign(friction_.size(), kUnknown);
+    since_.assign(friction_.size(), 0);
+  }
+  void update(long k, const std::vector<timestepper::ContactReport>& reports, Simulated& s) {
+    for (std::size_t c = 0; c < reports.size(); ++c) {
+      const timestepper::ContactReport& r = reports[c];
+      const bool closed = r.pn > 0 || r.gap <= 1e-6;
+      const char m = !closed ? kOpen : friction_[c] && std::hypot(r.vt1, r.vt2) > 1e-5 ? kSlide : kStick;
+      if (mode_[c] == kUnknown) mode_[c] = m;
+      if (m == mode_[c]) {
+        candidate_[c] = kUnknown;
+        continue;
+      }
+      if (m != candidate_[c]) {
+        candidate_[c] = m;
+        since_[c] = k;
+      }
+      if (k - since_[c] + 1 < kPersist) continue;
+      const long j = since_[c];
+      bool impulsive = false;
+      for (long i = std::max(0L, j - 1); i <= std::min(k, j + 1); ++i) impulsive = impulsive || s.impact[i];
+      if (!impulsive)
+        s.transitions.push_back(static_cast<double>(mode_[c] == kSlide && m == kStick ? j + 1 : j) * s.dt);
+      mode_[c] = m;
+      candidate_[c] = kUnknown;
+    }
+  }
+
+ private:
+  static constexpr char kUnknown = 0, kOpen = 1, kStick = 2, kSlide = 3;
+  static constexpr long kPersist = 5;
+  std::vector<bool> friction_;
+  std::vector<char> mode_, candidate_;
+  std::vector<long> since_;
+};
+
 Simulated simulate(const scene::Scene& scene, double dt, double duration) {
   timestepper::StepperOptions o;
   o.dt = dt;
@@ -86,6 +133,7 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration) {
   s.v.push_back(scene.v0);
   const double jump = 20 * scene.model.gravity.norm() * dt;
   std::vector<timestepper::ContactReport> start = stepper.contacts();  // before step k
+  ModeTracker modes(scene);
   try {
     for (long k = 0; k < K; ++k) {
       stepper.step();
@@ -112,6 +160,7 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration) {
         t_close = static_cast<double>(k) * dt + std::min(dt, start[strongest].gap / -start[strongest].vn);
       s.impact_time.push_back(t_close);
       start = stepper.contacts();
+      modes.update(k, stepper.contacts(), s);
     }
   } catch (const timestepper::SimulationError& e) {
     throw std::runtime_error(std::string("simulation seed: the time-stepper failed: ") + e.what());
@@ -121,9 +170,9 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration) {
 
 // The element lengths that put each impact on the nearest boundary (see the header).
 // An impact within 1.5 dt of a surface's step on the mesh is that step's (its time is the mesh's).
-std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> impacts, const std::vector<double>& starts,
+std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> events, const std::vector<double>& starts,
                               double dt, std::vector<double>& placed) {
-  for (double& t : impacts)
+  for (double& t : events)
     for (const auto& [surface, steps] : p.surface_steps)
       for (const SurfaceStep& s : steps)
         if (std::abs(t - starts[s.element]) < 1.5 * dt) t = starts[s.element];
@@ -131,7 +180,7 @@ std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> i
   const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
   // Anchors: (boundary index, time), strictly increasing in both.
   std::vector<std::pair<int, double>> anchors = {{0, 0.0}};
-  for (double t : impacts) {
+  for (double t : events) {
     const int b = std::clamp(static_cast<int>(std::lround(t / h0)), 1, N - 1);
     if (N < 2 || b <= anchors.back().first) continue;
     // Reachable from the previous anchor with lengths in [h_min, h_max].
@@ -182,10 +231,11 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
     ++iterations;
     const std::vector<double> simulated_starts = starts(h);
     sim = simulate(sceneAtMeshTimes(p, simulated_starts), dt, N * h_max + dt);
-    std::vector<double> impacts;
+    std::vector<double> events = sim.transitions;
     for (long k = 0; k < sim.steps(); ++k)
-      if (sim.impact[k] && (k == 0 || !sim.impact[k - 1])) impacts.push_back(sim.impact_time[k]);
-    h = placeMesh(p, h0, impacts, simulated_starts, dt, placed);
+      if (sim.impact[k] && (k == 0 || !sim.impact[k - 1])) events.push_back(sim.impact_time[k]);
+    std::sort(events.begin(), events.end());
+    h = placeMesh(p, h0, events, simulated_starts, dt, placed);
     const std::vector<double> now = starts(h);
     bool moved = false;
     for (const auto& [surface, steps] : p.surface_steps)
@@ -206,13 +256,32 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
     x[L.h] = hm;
     // The impulsive steps at this boundary (the impulsive [n, 0]).
     const std::optional<long> impact_here = m > 0 ? sim.impactAt(t0) : std::nullopt;
+    // Without velocity jumps (continuous, first order) the element that starts at an impact
+    // spreads it: the velocity goes from the one before it to the one after over the element,
+    // through the impulse as a force over the element's length.
+    const bool spread = impact_here && L.points[0].a < 0;
+    Eigen::VectorXd jump = Eigen::VectorXd::Zero(nv);
+    if (spread) {
+      sim.state(t0, Side::Before, q_before, v_before);
+      sim.state(t0, Side::After, q, v);
+      jump = v - v_before;
+    }
+    // The impulses of the impact at this boundary, per contact.
+    auto impulse = [&](std::size_t c, double& pn, double& pt1, double& pt2) {
+      pn = pt1 = pt2 = 0;
+      for (long j = impact_here.value_or(sim.steps()); j < sim.steps() && sim.impact[j]; ++j) {
+        pn += sim.c[j][c].pn;
+        pt1 += sim.c[j][c].pt1;
+        pt2 += sim.c[j][c].pt2;
+      }
+    };
     for (std::size_t pi = 0; pi < L.points.size(); ++pi) {
       const double time = t0 + hm * L.tau[pi];
       const bool start = pi == 0, end = static_cast<int>(pi) == L.end;
       sim.state(time, end ? Side::Before : Side::After, q, v);
       const auto& pt = L.points[pi];
       x.segment(pt.q, nv) = q;
-      x.segment(pt.v, nv) = v;
+      x.segment(pt.v, nv) = v - (1 - L.tau[pi]) * jump;
       if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu).setZero();
       const long k = sim.smoothStep(sim.stepAt(time));
       if (pt.a >= 0) {
@@ -220,7 +289,7 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
           sim.state(time, Side::Before, q_before, v_before);
           x.segment(pt.a, nv) = v - v_before;  // Δq̇ at [n, 0]
         } else {
-          x.segment(pt.a, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt;
+          x.segment(pt.a, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt + jump / hm;
         }
       }
       for (std::size_t c = 0; c < contacts.size(); ++c) {
@@ -229,15 +298,18 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
         // At an impulsive [n, 0] the impulse of the impact steps there; elsewhere the mean force.
         double pn = 0, pt1 = 0, pt2 = 0;
         if (start) {
-          for (long j = impact_here.value_or(sim.steps()); j < sim.steps() && sim.impact[j]; ++j) {
-            pn += sim.c[j][c].pn;
-            pt1 += sim.c[j][c].pt1;
-            pt2 += sim.c[j][c].pt2;
-          }
+          impulse(c, pn, pt1, pt2);
         } else {
           pn = sim.c[k][c].pn / sim.dt;
           pt1 = sim.c[k][c].pt1 / sim.dt;
           pt2 = sim.c[k][c].pt2 / sim.dt;
+          if (spread) {
+            double Pn, Pt1, Pt2;
+            impulse(c, Pn, Pt1, Pt2);
+            pn += Pn / hm;
+            pt1 += Pt1 / hm;
+            pt2 += Pt2 / hm;
+          }
         }
         x[C.rn[pi]] = pn;
         const ContactPoint& cp = contacts[c];
@@ -270,7 +342,7 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
   t.makeConsistent(x);
   if (report) {
     report->dt = dt;
-    report->impacts = placed;
+    report->events = placed;
     report->mesh_times = starts(h);
     report->iterations = iterations;
   }

@@ -7,11 +7,13 @@
 // activations and slip bounds.
 //
 // The mesh: elements of equal length h0 (the total time T / N when it is fixed, else the middle
-// of the length bounds, and at least T / N when T is a lower bound); each impact (a step of the
-// simulation whose velocity change exceeds 20 g dt while a contact carries an impulse; a run of
-// such steps is one impact, at its first step) is moved to the nearest element boundary, and the
-// elements between consecutive impacts share the time between them equally (within the length
-// bounds). A surface whose velocity steps on the mesh steps at its mesh point's time, so the mesh
+// of the length bounds, and at least T / N when T is a lower bound); each event is moved to the
+// nearest element boundary, and the elements between consecutive events share the time between
+// them equally (within the length bounds). The events are the impacts (a step of the simulation
+// whose velocity change exceeds 20 g dt while a contact carries an impulse; a run of such steps
+// is one impact, when its contact closes) and the changes of a contact's mode that last 5 steps
+// (lift-off, a touchdown without impact, sticking, slipping): the transcription allows these at
+// element boundaries only (paper eqs. 10 and 13 sum over the element). A surface whose velocity steps on the mesh steps at its mesh point's time, so the mesh
 // and the simulation are iterated (at most 4 times) until the steps stay where they were
 // simulated.
 #pragma once
@@ -26,7 +28,7 @@ namespace saltus::collocation {
 
 struct SimulationSeedReport {
   double dt = 0;                    // the simulation's step
-  std::vector<double> impacts;      // times of the impacts found (after placing on the mesh)
+  std::vector<double> events;       // times of the impacts and contact changes on the mesh's boundaries
   std::vector<double> mesh_times;   // the problem's element boundaries (N + 1 values)
   int iterations = 0;               // mesh–simulation passes
 };

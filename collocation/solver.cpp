@@ -85,6 +85,9 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   // paper group's code (facts.md §1), and an acceptable level for the complementarity
   // problems, whose multipliers need not converge.
   app->Options()->SetNumericValue("tol", 1e-6);
+  // Ipopt's default (1e-4, unscaled) would end a solve with integration residuals of 1e-7–1e-6
+  // m or m/s; 1e-8 costs one or two iterations on the built-in problems.
+  app->Options()->SetNumericValue("constr_viol_tol", 1e-8);
   app->Options()->SetNumericValue("acceptable_tol", 1e-4);
   app->Options()->SetIntegerValue("acceptable_iter", 10);
   app->Options()->SetIntegerValue("max_iter", 3000);
@@ -96,6 +99,10 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
     app->Options()->SetNumericValue("bound_frac", 1e-6);
     app->Options()->SetNumericValue("mu_init", 1e-4);
   }
+  // From a seed near a solution the adaptive strategy's first barrier parameter (its oracle,
+  // which ignores mu_init) was 50 on the drop and walked a saved solution away from itself;
+  // the monotone strategy keeps mu_init (measured with `saltus sweep`, README).
+  if (stage == Stage::Feasibility && options.warm_seed) app->Options()->SetStringValue("mu_strategy", "monotone");
   if (!start.empty()) {  // and its multipliers
     app->Options()->SetStringValue("warm_start_init_point", "yes");
     app->Options()->SetNumericValue("warm_start_bound_push", 1e-6);
@@ -185,7 +192,10 @@ SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveO
   double wall = 0, eval = 0;
   int iterations = 0;
   for (int k = 0; k <= std::max(0, options.restarts); ++k) {
-    total = solve(t, seed(k), options);
+    const Seed start = seed(k);
+    SolveOptions o = options;
+    o.warm_seed = options.warm_seed || start.warm;
+    total = solve(t, start.x, o);
     wall += total.wall_seconds;
     eval += total.evaluation_seconds;
     iterations += total.iterations;

@@ -66,8 +66,14 @@ struct SolveOptions {
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
 };
 
-// The starting point of attempt k = 0, 1, …
-using SeedFunction = std::function<Eigen::VectorXd(int attempt)>;
+// The starting point of attempt k = 0, 1, …, and whether it is close to a solution (an earlier
+// solution, a simulation): then Ipopt starts with a small barrier parameter and keeps the point
+// close to its bounds, as with SolveOptions::warm_seed.
+struct Seed {
+  Eigen::VectorXd x;
+  bool warm = false;
+};
+using SeedFunction = std::function<Seed(int attempt)>;
 
 // Thrown for an Ipopt option that does not exist or has a value of the wrong type.
 class IpoptOptionError : public std::invalid_argument {

@@ -39,9 +39,14 @@ TEST(Optimize, PointMassDropWritesTrajectoryAndSummary) {
   EXPECT_TRUE(s["feasible"].get<bool>());
   EXPECT_LE(s["largest_product"].get<double>(), 1e-4);
   EXPECT_GE(s["total_time"].get<double>(), 0.2 - 1e-6);
-  ASSERT_EQ(s["stages"].size(), 2u);  // feasibility with the hint, then without it
+  ASSERT_EQ(s["stages"].size(), 1u);  // no hints, no task cost: the feasibility stage alone
   EXPECT_EQ(s["stages"][0]["name"], "feasibility");
-  EXPECT_EQ(s["stages"][1]["status"], "Solve_Succeeded");
+  EXPECT_EQ(s["stages"][0]["status"], "Solve_Succeeded");
+  // The default seed: the time-stepper's motion, its landing on an element boundary.
+  EXPECT_EQ(s["seed"], "simulation");
+  ASSERT_EQ(s["simulation_seed"]["events"].size(), 1u);
+  EXPECT_NEAR(s["simulation_seed"]["events"][0].get<double>(), std::sqrt(2 * 0.1 / 9.81), 1e-3);
+  EXPECT_EQ(s["attempts"].size(), 1u);
   EXPECT_GT(s["iterations"].get<int>(), 0);
   EXPECT_GT(s["evaluation_seconds"].get<double>(), 0.0);
   EXPECT_LT(s["evaluation_seconds"].get<double>(), s["wall_seconds"].get<double>());

@@ -50,7 +50,7 @@ TEST(CliRender, SimulatedTrajectoryToVideoAndFrames) {
 TEST(CliRender, OptimizeDirectoryLoadsItsProblemScene) {
   const fs::path dir = renderScratch("run");
   fs::create_directories(dir);
-  std::ofstream(dir / "summary.json") << R"({"source": "builtin:point_mass_drop", "parameters": {"height": 0.1, "restitution": 0, "impact_element": 9}})";
+  std::ofstream(dir / "summary.json") << R"({"source": "builtin:point_mass_drop", "parameters": {"height": 0.1, "restitution": 0}})";
   std::ofstream(dir / "trajectory.csv") << "t,q.z,v.z,contact.ball.rn,contact.ball.pn\n"
                                            "0,0.1,0,0,0\n0.1,0.05,-1,0,0\n0.1,0.05,0,0,1\n0.2,0.05,0,9.81,0\n";
   const auto r = runSaltus({"render", dir.string(), "--frames", (dir / "frames").string(), "--fps", "10",

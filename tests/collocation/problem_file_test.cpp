@@ -83,7 +83,8 @@ TEST(Method, UnknownNameListsTheValidOnes) {
 // Built-in problems
 
 TEST(ProblemFile, BuiltinNames) {
-  EXPECT_EQ(builtinProblemNames(), (std::vector<std::string>{"pendulum_conveyor", "point_mass_drop"}));
+  EXPECT_EQ(builtinProblemNames(),
+            (std::vector<std::string>{"pendulum_conveyor", "point_mass_drop", "point_mass_throw"}));
 }
 
 TEST(ProblemFile, PointMassDrop) {
@@ -119,16 +120,11 @@ TEST(ProblemFile, PointMassDrop) {
   EXPECT_DOUBLE_EQ(p.cost.penalty_weight, 1.0);
   EXPECT_TRUE(p.inputs.empty());
   EXPECT_TRUE(p.bounds.empty());
-  // The seeding hint: on the ground at [impact_element, 0] = [9, 0] (0-based element 8).
-  ASSERT_EQ(p.hints.size(), 1u);
-  EXPECT_EQ(p.hints[0].quantity.kind, Quantity::Kind::Gap);
-  EXPECT_EQ(p.hints[0].element, 8);
-  EXPECT_EQ(p.hints[0].point, 0);
-  EXPECT_EQ(p.hints[0].lower, 0.0);
-  EXPECT_EQ(p.hints[0].upper, 0.0);
+  // No hints; the seed is the time-stepper's motion.
+  EXPECT_TRUE(p.hints.empty());
+  EXPECT_EQ(p.seed_kind, SeedKind::Simulation);
   EXPECT_TRUE(p.surface_steps.empty());
-  EXPECT_EQ(p.parameters,
-            (std::map<std::string, double>{{"height", 0.1}, {"impact_element", 9.0}, {"restitution", 0.0}}));
+  EXPECT_EQ(p.parameters, (std::map<std::string, double>{{"height", 0.1}, {"restitution", 0.0}}));
   EXPECT_EQ(p.ipopt_options.at("tol"), "1e-6");
 }
 
@@ -138,9 +134,25 @@ TEST(ProblemFile, PointMassDropOverrides) {
   EXPECT_DOUBLE_EQ(p.scene.q0[0], 0.05);
   EXPECT_DOUBLE_EQ(p.parameters.at("restitution"), 0.5);
   EXPECT_DOUBLE_EQ(p.scene.parameters.at("height"), 0.05);
+  // The mesh scales with the fall time √(2 h / g): h_max and the horizon with √(h / 0.1).
+  EXPECT_NEAR(p.h_max, 0.02 * std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(p.total_time, 0.2 * std::sqrt(0.5), 1e-15);
   // Through the command-line parser.
   const Problem q = loadProblem("point_mass_drop", scene::parseOverrides({"restitution=0.25"}));
   EXPECT_DOUBLE_EQ(q.scene.contacts[0].restitution, 0.25);
+}
+
+TEST(ProblemFile, PointMassThrowHorizonHoldsTheAnalyticStop) {
+  for (const double mu : {0.1, 0.3, 1.0}) {
+    const Problem p = loadProblem("point_mass_throw", {{"friction", mu}, {"speed", 2.0}, {"height", 0.3}});
+    ASSERT_EQ(p.scene.model.nv(), 2);
+    EXPECT_EQ(p.scene.contacts[0].directions, 2);
+    const double g = 9.81, t_fall = std::sqrt(2 * 0.3 / g), v_after = std::max(0.0, 2.0 - mu * g * t_fall);
+    const double t_stop = t_fall + v_after / (mu * g);
+    EXPECT_NEAR(p.total_time, 1.25 * t_stop, 1e-12) << "mu = " << mu;
+    EXPECT_GE(p.N * p.h_max, p.total_time);
+    EXPECT_DOUBLE_EQ(p.scene.v0[0], 2.0);
+  }
 }
 
 TEST(ProblemFile, OverrideOutsideTheValidRangeIsCaught) {

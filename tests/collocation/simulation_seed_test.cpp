@@ -24,8 +24,8 @@ TEST(SimulationSeed, DropLandsOnAnElementBoundaryWithTheAnalyticJump) {
     SimulationSeedReport report;
     const Eigen::VectorXd x = seedFromSimulation(t, &report);
     const double t_land = std::sqrt(2 * height / kGravity), v_land = kGravity * t_land;
-    ASSERT_GE(report.impacts.size(), 1u) << "e = " << e;
-    EXPECT_NEAR(report.impacts[0], t_land, 1.5 * report.dt);
+    ASSERT_GE(report.events.size(), 1u) << "e = " << e;
+    EXPECT_NEAR(report.events[0], t_land, 1.5 * report.dt);
     // The boundary at the landing: Δv = (1 + e) v, impulse m (1 + e) v (m = 1 kg), element
     // lengths within their bounds, the boundary at the impact time.
     int landing = -1;
@@ -34,7 +34,7 @@ TEST(SimulationSeed, DropLandsOnAnElementBoundaryWithTheAnalyticJump) {
       const double h = x[t.layout()[n].h];
       EXPECT_GE(h, t.variableLower()[t.layout()[n].h] - 1e-12);
       EXPECT_LE(h, t.variableUpper()[t.layout()[n].h] + 1e-12);
-      if (landing < 0 && std::abs(time - report.impacts[0]) < 1e-9) landing = n;
+      if (landing < 0 && std::abs(time - report.events[0]) < 1e-9) landing = n;
       time += h;
     }
     ASSERT_GT(landing, 0) << "no boundary at the impact";
@@ -72,8 +72,8 @@ TEST(SimulationSeed, BeltStepIsAnImpactWithoutCollisionAtItsMeshPoint) {
   const Transcription t(p, Method::Impulsive);
   SimulationSeedReport report;
   const Eigen::VectorXd x = seedFromSimulation(t, &report);
-  ASSERT_EQ(report.impacts.size(), 1u);
-  EXPECT_NEAR(report.impacts[0], report.mesh_times[5], 1e-12);  // the belt steps at [6, 0]
+  ASSERT_EQ(report.events.size(), 1u);
+  EXPECT_NEAR(report.events[0], report.mesh_times[5], 1e-12);  // the belt steps at [6, 0]
   const auto& L = t.layout()[5];
   EXPECT_GT(x[L.contacts[0].rn[0]], 0.1);  // the tangential impulse comes with a normal one
   EXPECT_GT(x.segment(L.points[0].a, 2).norm(), 0.5);  // Δq̇ of the joints
@@ -94,7 +94,7 @@ TEST(SimulationSeed, FillsTheFirstOrderSteps) {
   EXPECT_NEAR(total, report.mesh_times.back(), 1e-12);
   for (const auto& L : t.layout()) {
     time += x[L.h];
-    if (time < report.impacts.at(0) - 1e-9) {
+    if (time < report.events.at(0) - 1e-9) {
       EXPECT_NEAR(x[L.points[1].q], 0.1 - 0.5 * kGravity * time * time, 1e-9);
     }
   }

@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "collocation/problem_file.hpp"
+#include "collocation/seeding.hpp"
+#include "collocation/simulation_seed.hpp"
 #include "collocation/solution.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/rk4.hpp"
@@ -25,12 +27,17 @@ struct Solved {
 };
 
 Solved solveBuiltin(const std::string& name, Method method, const std::map<std::string, double>& set = {},
-                    unsigned seed = 0) {
+                    unsigned seed = 0, SeedKind kind = SeedKind::Simulation) {
   Solved s;
   s.problem = loadProblem(name, set);
+  s.problem.seed_kind = kind;
   if (seed) s.problem.random_seed = seed;
   s.t = std::make_unique<Transcription>(s.problem, method);
-  s.report = solve(*s.t, s.t->perturb(s.t->nullSeed(), s.problem.seed_scale, s.problem.random_seed), {});
+  // As saltus optimize: the problem's seed (the simulation's, by default) and restarts.
+  const Seeding seeding = makeSeeding(*s.t);
+  SolveOptions o;
+  o.restarts = seeding.restarts;
+  s.report = solve(*s.t, seeding.seed, o);
   s.rows = trajectory(*s.t, s.report.x);
   return s;
 }
@@ -47,8 +54,10 @@ void checkDrop(const Solved& s, double e) {
     EXPECT_GT(r.contacts[0].gap, -1e-8) << "penetration at t = " << r.t;
     if (impact_row < 0 && r.contacts[0].pn > 1e-3) impact_row = static_cast<int>(i);
     if (impact_row < 0 && r.t < t_impact - tol) {  // free flight: exact at every point
-      EXPECT_NEAR(r.q[0], h0 - g * r.t * r.t / 2, 1e-6) << "t = " << r.t;  // Ipopt tol 1e-6
-      EXPECT_NEAR(r.v[0], -g * r.t, 1e-6) << "t = " << r.t;
+      // The relaxation A·B ≤ ε leaves forces of up to ε / Σy in flight: at Ipopt's tol 1e-6
+      // (the problem file's) the free fall is exact to 4e-6 m/s (1e-7 at tol 1e-8).
+      EXPECT_NEAR(r.q[0], h0 - g * r.t * r.t / 2, 1e-5) << "t = " << r.t;
+      EXPECT_NEAR(r.v[0], -g * r.t, 1e-5) << "t = " << r.t;
     }
   }
   ASSERT_GT(impact_row, 0) << "no impulse";
@@ -68,8 +77,20 @@ TEST(Solver, PointMassDropHalfElastic) {
   checkDrop(solveBuiltin("point_mass_drop", Method::Impulsive, {{"restitution", 0.5}}, 2), 0.5);
 }
 
+// The continuous method cannot land the mass within ε (the force of (10) acts while the gaps of
+// its element are not all zero); from the paper's perturbed null seed, with the mass put on the
+// ground at [9, 0] in the feasibility stage (a hint), it ends with the shape the paper's Fig. 3
+// shows for it.
 TEST(Solver, ContinuousSpreadsTheStopOverOneElement) {
-  const Solved s = solveBuiltin("point_mass_drop", Method::Continuous);
+  Solved s;
+  s.problem = loadProblem("point_mass_drop");
+  s.problem.hints.push_back({{Quantity::Kind::Gap, 0}, 8, 0, 0.0, 0.0, "test"});
+  s.t = std::make_unique<Transcription>(s.problem, Method::Continuous);
+  SolveOptions o;
+  o.restarts = s.problem.restarts;
+  s.report = solve(
+      *s.t, [&](int k) { return Seed{s.t->perturb(s.t->nullSeed(), 0.1, 1 + static_cast<unsigned>(k)), false}; }, o);
+  s.rows = trajectory(*s.t, s.report.x);
   // The velocity falls from the impact speed to rest inside one element, with no jump.
   const auto& L = s.t->layout();
   int stops = 0;
@@ -176,9 +197,9 @@ TEST(Solver, RestartsAfterAnInfeasibleEnd) {
       t,
       [&](int k) {
         asked.push_back(k);
-        Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.1, 2);  // random seed 2 solves (PointMassDropHalfElastic)
-        if (k == 0) x[t.layout()[3].points[1].q] = std::nan("");  // attempt 0 cannot even start
-        return x;
+        Seed s{seedFromSimulation(t), true};  // solves (PointMassDropHalfElastic)
+        if (k == 0) s.x[t.layout()[3].points[1].q] = std::nan("");  // attempt 0 cannot even start
+        return s;
       },
       o);
   EXPECT_EQ(asked, (std::vector<int>{0, 1}));

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "collocation/problem_file.hpp"
+#include "collocation/seeding.hpp"
 #include "collocation/solver.hpp"
 #include "saltus/build_paths.hpp"
 
@@ -20,7 +21,8 @@ namespace {
 
 using collocation::SavedSolution;
 
-// As `saltus optimize`: the problem's perturbed seed, restarts after an infeasible end.
+// As `saltus optimize`: the problem's seed (the simulation's, by default), restarts after an
+// infeasible end.
 SavedSolution solveProblem(const std::string& name, const std::map<std::string, double>& set, unsigned seed, int P = 0) {
   SavedSolution s;
   s.problem = std::make_unique<collocation::Problem>(collocation::loadProblem(name, set));
@@ -28,12 +30,10 @@ SavedSolution solveProblem(const std::string& name, const std::map<std::string, 
   if (P > 0) collocation::remesh(*s.problem, s.problem->N, P);
   s.transcription = std::make_unique<collocation::Transcription>(*s.problem, collocation::Method::Impulsive);
   const collocation::Transcription& t = *s.transcription;
-  const collocation::Problem& p = *s.problem;
-  const Eigen::VectorXd base = t.nullSeed();
+  const collocation::Seeding seeding = collocation::makeSeeding(t);
   collocation::SolveOptions so;
-  so.restarts = p.restarts;
-  const collocation::SolveReport r =
-      collocation::solve(t, [&](int k) { return t.perturb(base, p.seed_scale, p.random_seed + static_cast<unsigned>(k)); }, so);
+  so.restarts = seeding.restarts;
+  const collocation::SolveReport r = collocation::solve(t, seeding.seed, so);
   EXPECT_TRUE(r.feasible) << name << ": " << r.stages.back().status;
   s.x = r.x;
   return s;

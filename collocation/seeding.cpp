@@ -1,0 +1,32 @@
+#include "collocation/seeding.hpp"
+
+#include <memory>
+
+#include "collocation/saved_solution.hpp"
+
+namespace saltus::collocation {
+
+Seeding makeSeeding(const Transcription& t) {
+  const Problem& p = t.problem();
+  Seeding s;
+  auto base = std::make_shared<Eigen::VectorXd>();
+  switch (p.seed_kind) {
+    case SeedKind::Simulation: *base = seedFromSimulation(t, &s.simulation); break;
+    case SeedKind::Solution: *base = seedFromSolution(t, loadSolution(p.seed_solution)); break;
+    case SeedKind::Null:
+    case SeedKind::Perturbed: *base = t.nullSeed(); break;
+  }
+  const SeedKind kind = p.seed_kind;
+  const double scale = p.seed_scale;
+  const unsigned random_seed = p.random_seed;
+  s.seed = [&t, base, kind, scale, random_seed](int k) -> Seed {
+    const bool exact_first = kind == SeedKind::Null || kind == SeedKind::Simulation;
+    if ((exact_first && k == 0) || scale <= 0)
+      return {*base, kind == SeedKind::Simulation || (kind == SeedKind::Solution && scale <= 1e-3)};
+    return {t.perturb(*base, scale, random_seed + static_cast<unsigned>(k)), kind == SeedKind::Solution && scale <= 1e-3};
+  };
+  s.restarts = scale > 0 ? p.restarts : 0;  // without a perturbation every attempt is the same
+  return s;
+}
+
+}  // namespace saltus::collocation

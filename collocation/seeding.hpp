@@ -1,0 +1,29 @@
+// The starting points of a solve with restarts, by the problem's seed kind (Problem::seed_kind):
+//   simulation  the time-stepper's motion on a mesh placed on its events (simulation_seed.hpp),
+//               the default
+//   null        zero everywhere, positions at the initial state, h in the middle of its bounds
+//   perturbed   the null point plus uniform random values in [0, seed_scale] on the positions and
+//               normal reactions (paper §V.C)
+//   solution    an earlier solution (saved_solution.hpp), perturbed by seed_scale
+// Attempt 0 starts from that point (perturbed for `perturbed` and `solution`, with random_seed);
+// attempt k ≥ 1, after an infeasible end, from it perturbed with random_seed + k. A simulation
+// seed, and a solution perturbed by at most 1e-3, are near a solution (Seed::warm) in attempt 0.
+#pragma once
+
+#include "collocation/simulation_seed.hpp"
+#include "collocation/solver.hpp"
+
+namespace saltus::collocation {
+
+struct Seeding {
+  SeedFunction seed;
+  int restarts = 0;  // further attempts: the problem's, or 0 when no perturbation would change the point
+  SimulationSeedReport simulation;  // a simulation seed's events and mesh
+};
+
+// Builds the base point now (a simulation seed runs the time-stepper; a solution seed reads its
+// files, so SolutionError and scene::ScenarioError pass through); the returned function refers
+// to `t`.
+Seeding makeSeeding(const Transcription& t);
+
+}  // namespace saltus::collocation
