@@ -125,7 +125,7 @@ TEST(ProblemFile, PointMassDrop) {
   EXPECT_EQ(p.seed_kind, SeedKind::Simulation);
   EXPECT_TRUE(p.surface_steps.empty());
   EXPECT_EQ(p.parameters, (std::map<std::string, double>{{"height", 0.1}, {"restitution", 0.0}}));
-  EXPECT_EQ(p.ipopt_options.at("tol"), "1e-6");
+  EXPECT_EQ(p.ipopt_options.at("tol"), "1e-8");
 }
 
 TEST(ProblemFile, PointMassDropOverrides) {
