@@ -1,6 +1,7 @@
 // Dynamics kernels on the standard benchmark models (models/benchmark: iiwa 7 DoF fixed base,
 // HyQ 12 DoF and Atlas 30 DoF on a free base), over a pool of random states as in the peers'
-// published figures (../shared/reference/facts.md §2: 100k random samples, gravity 0).
+// figures (Pinocchio 3, RBDL 3.3, MuJoCo 2.2.2 and DART 6.12, measured on this project's 2-core
+// machine: 100k random samples, gravity 0).
 // Run: build/bench/saltus_bench  (or scripts/bench.sh for the table against the peers).
 #include <benchmark/benchmark.h>
 

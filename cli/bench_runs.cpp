@@ -292,7 +292,7 @@ ErrorModel makeErrorModel(const Scene& scene, const std::vector<double>& dts, do
     m.kind = ErrorModel::BallApex;
     m.apex_exact = analytic::ballApex(h0, e, 1);
     m.description = "|first apex - e^2 h0| with e^2 h0 = " + formatNumber(m.apex_exact, 8) +
-                    " m (apex: highest z between the first and the second impact; shared/reference/facts.md §3)";
+                    " m (apex: highest z between the first and the second impact; elementary: h_k = e^(2k) h0)";
     return m;
   }
   if (scene.name == "block_slide" && hasParameters(scene, {"incline", "speed", "friction", "g"}) &&

@@ -161,6 +161,17 @@ int optimize(const OptimizeOptions& opt) {
                              {"iterations", a.iterations},
                              {"wall_seconds", a.wall_seconds}});
   if (!r.note.empty()) j["note"] = r.note;
+  // A failed solve with hints: could the problem's own motion meet them?
+  std::vector<HintReach> hints;
+  if (!r.feasible && !problem.hints.empty()) hints = checkHints(t);
+  for (const HintReach& h : hints)
+    j["hints"].push_back({{"origin", h.origin},
+                          {"contact", h.contact},
+                          {"at", {h.element + 1, h.point}},
+                          {"earliest", h.earliest},
+                          {"latest", h.latest},
+                          {"simulated_closing", h.closes},
+                          {"reachable", h.reachable}});
   j["parameters"] = problem.parameters;
   writeFileAtomically((fs::path(opt.out) / "summary.json").string(), j.dump(2) + "\n");
 
@@ -171,6 +182,13 @@ int optimize(const OptimizeOptions& opt) {
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
             << opt.out << "\n";
   if (!r.note.empty()) std::cerr << "saltus optimize: " << r.note << "\n";
+  for (const HintReach& h : hints)
+    if (!h.reachable)
+      std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1
+                << "," << h.point << "]) cannot be met: that point lies between " << h.earliest << " and " << h.latest
+                << " s, and the unactuated motion closes " << h.contact
+                << (h.closes < 0 ? std::string(" never within the horizon") : " first at " + std::to_string(h.closes) + " s")
+                << "\n";
   return r.feasible ? 0 : 1;
 }
 

@@ -349,4 +349,41 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
   return x;
 }
 
+std::vector<HintReach> checkHints(const Transcription& t) {
+  const Problem& p = t.problem();
+  std::vector<HintReach> out;
+  const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
+  const double h0 = std::clamp(p.total_time_kind == TotalTime::Free ? 0.5 * (h_min + h_max)
+                                                                    : std::max(0.5 * (h_min + h_max), p.total_time / p.N),
+                               h_min, h_max);
+  std::vector<double> starts(p.N + 1, 0.0);
+  for (int n = 0; n < p.N; ++n) starts[n + 1] = starts[n] + h0;
+  std::optional<Simulated> sim;
+  for (const PointBound& b : p.hints) {
+    if (b.quantity.kind != Quantity::Kind::Gap || b.upper > 1e-6) continue;
+    if (!sim) sim = simulate(sceneAtMeshTimes(p, starts), h0 / 40, p.N * h_max + h0);
+    HintReach r;
+    r.origin = b.origin;
+    r.contact = t.contacts().at(b.quantity.index).name;
+    r.element = std::max(0, b.element);
+    r.point = std::max(0, b.point);
+    const double tau = r.point == 0 ? 0.0 : r.point > p.P ? 1.0 : LegendreGauss(p.P).tau[r.point - 1];
+    r.earliest = (r.element + tau) * h_min;
+    r.latest = (r.element + tau) * h_max;
+    for (long k = 0; k < sim->steps(); ++k) {
+      const timestepper::ContactReport& c = sim->c[k][b.quantity.index];
+      const double time = static_cast<double>(k + 1) * sim->dt;
+      if (c.pn > 0 || c.gap <= 1e-6) {
+        if (r.closes < 0) r.closes = time;
+        if (time >= r.earliest - sim->dt && time <= r.latest + sim->dt) {
+          r.reachable = true;
+          break;
+        }
+      }
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace saltus::collocation

@@ -18,6 +18,7 @@
 // simulated.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,5 +36,21 @@ struct SimulationSeedReport {
 
 // Throws std::runtime_error (naming the time-stepper's failure) when the simulation fails.
 Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report = nullptr);
+
+// Whether a hint that closes a contact (a gap bound ≤ 1e-6 at [n, p]) can be met by the
+// problem's own motion: the mesh point can lie anywhere in [earliest, latest] (the element
+// lengths within their bounds), and the simulation from the initial state with the inputs at
+// zero (as for the seed) has the contact closed at some time in that window. For a problem
+// without inputs the simulation is the motion; with inputs, an unreachable hint is one the
+// unactuated motion does not reach. Other hints are not checked.
+struct HintReach {
+  std::string origin;   // where the hint was given
+  std::string contact;
+  int element = 0, point = 0;  // 0-based
+  double earliest = 0, latest = 0;
+  double closes = -1;   // the first time the simulated contact is closed (−1: never)
+  bool reachable = false;
+};
+std::vector<HintReach> checkHints(const Transcription& t);
 
 }  // namespace saltus::collocation

@@ -82,8 +82,8 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
   // Defaults (the problem file and the command line override them): the tolerance of the
-  // paper group's code (facts.md §1), and an acceptable level for the complementarity
-  // problems, whose multipliers need not converge.
+  // paper group's public code (Shield et al., ICB 2021), and an acceptable level for the
+  // complementarity problems, whose multipliers need not converge.
   app->Options()->SetNumericValue("tol", 1e-6);
   // Ipopt's default (1e-4, unscaled) would end a solve with integration residuals of 1e-7–1e-6
   // m or m/s; 1e-8 costs one or two iterations on the built-in problems.

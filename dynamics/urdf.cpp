@@ -286,7 +286,7 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
   // Links (with inertials and visuals) and joints, each checked as it is converted.
   ModelBuilder builder(urdf_model->getName());
   builder.setSource(source_name);
-  builder.requireInertials(true);  // the issue: a moving URDF link without <inertial> is an error
+  builder.requireInertials(true);  // a moving URDF link without <inertial> is an error
   for (const auto& [name, link] : urdf_model->links_) builder.addLink(toLinkSpec(*link, source_name));
   for (const auto& [name, joint] : urdf_model->joints_) builder.addJoint(toJointSpec(*joint, source_name));
   return builder;

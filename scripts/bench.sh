@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the dynamics benchmarks (build/bench/saltus_bench) and prints each kernel next to the
-# best peer figure measured on this machine kind (../shared/reference/facts.md §2), and the
-# cost of the AD Jacobian of RNEA relative to RNEA itself (target ≤ 10×).
+# best peer figure measured on this machine kind (Pinocchio 3, RBDL 3.3, MuJoCo 2.2.2, DART 6.12;
+# 100k random samples, gravity 0, on this project's 2-core machine), and the cost of the AD
+# Jacobian of RNEA relative to RNEA itself (target ≤ 10×).
 # Usage: scripts/bench.sh [extra Google Benchmark flags, e.g. --benchmark_repetitions=5]
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,6 +1,6 @@
-// Closed-form answers for the validation scenes (shared/reference/facts.md §3) and the trajectory
-// measurement they are compared with. Used by `saltus bench work-precision` (cli/bench.cpp) and
-// the physics tests.
+// Closed-form answers for the validation scenes (elementary mechanics: Newton restitution,
+// Coulomb friction) and the trajectory measurement they are compared with. Used by
+// `saltus bench work-precision` (cli/bench.cpp) and the physics tests.
 #pragma once
 
 #include <vector>

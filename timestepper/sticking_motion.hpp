@@ -1,6 +1,7 @@
 // Exact motions of the two validation scenes that an impact without collision resolves
-// (shared/reference/facts.md §3; paper §II.A and §IV.A): a tangential impulse stops the slip, and
-// while the contact then sticks the motion follows from kinematics and the equations of motion
+// (Champneys & Várkonyi, "The Painlevé paradox in contact mechanics", IMA J. Appl. Math. 2016;
+// Shield, Johnson & Patel, IEEE T-RO 2023, §II.A and §IV.A): a tangential impulse stops the slip,
+// and while the contact then sticks the motion follows from kinematics and the equations of motion
 // alone, with no contact solver involved. These are the reference answers against which both
 // engines are measured (`saltus bench`, tests/verify). Each motion also checks that sticking is
 // consistent: the impulse and every later contact force inside the Coulomb cone, the normal
@@ -38,7 +39,7 @@ class PainleveRodMotion {
   // (0, π/2).
   PainleveRodMotion(double half_length, double angle, double speed, double mu, double g);
 
-  // B = 1 + 3cos²θ0 − 3μ sinθ0 cosθ0 (facts.md §3); the impulsive stop needs B ≤ 0.
+  // B = 1 + 3cos²θ0 − 3μ sinθ0 cosθ0 (Champneys & Várkonyi 2016); the impulsive stop needs B ≤ 0.
   double paradoxCoefficient() const;
   bool stopsByImpulse() const { return paradoxCoefficient() <= 0; }
   // (P_t, P_n) per unit mass [m/s].

@@ -29,10 +29,10 @@
 //    the desired velocity but never uses it;
 //  - the input: generalised forces τ per step (the scene's constant τ unless step(tau) is given).
 //
-// Settings (BulletWorldOptions). Bullet's defaults lose or distort the bounce (shared/reference/
-// facts.md §4–5); the defaults here are tuned, each choice below:
+// Settings (BulletWorldOptions). Bullet's defaults lose or distort the bounce (bullet3#1530, and
+// measured here with Bullet 3.24); the defaults here are tuned, each choice below:
 //  - erp2 = 0: Bullet's default 0.2 turns penetration into a velocity (Baumgarte), which adds
-//    energy (apex 0.483 instead of 0.25 in facts.md §5). Split impulse, Bullet's energy-neutral
+//    energy (apex 0.483 instead of 0.25, measured here). Split impulse, Bullet's energy-neutral
 //    alternative, is not implemented for btMultiBody contacts in 3.24 (the branch is commented
 //    out in setupMultiBodyContactConstraint), so with erp2 = 0 a penetration stays: a resting
 //    contact sits up to |v_impact| h below the surface;

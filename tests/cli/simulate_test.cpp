@@ -129,7 +129,7 @@ TEST(Simulate, BallDropCsvAndFirstApex) {
   EXPECT_EQ(csv.number(0, "q.z"), 1.0);
   EXPECT_EQ(csv.number(0, "v.z"), 0.0);
   EXPECT_NEAR(csv.number(csv.rows.size() - 1, "t"), 1.2, 1e-9);
-  EXPECT_NEAR(firstApex(csv), 0.5 * 0.5 * 1.0, 2e-3) << "e² h0 (facts.md §3)";
+  EXPECT_NEAR(firstApex(csv), 0.5 * 0.5 * 1.0, 2e-3) << "e² h0 (elementary: h_k = e^(2k) h0)";
   // The one-line summary.
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   for (const char* text : {"12000 steps", "µs per step", "LCP failures 0", "largest penetration", "E_end - E_0"})

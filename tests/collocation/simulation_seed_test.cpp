@@ -113,3 +113,27 @@ TEST(SimulationSeed, SeedsOfTheDropSolveWithoutRestarts) {
 
 }  // namespace
 }  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace {
+
+// A hint that puts the mass on the ground at [9, 0]: reachable from 0.1 m (the landing at
+// 0.143 s lies in the 0.016–0.16 s that [9, 0] can take), not from 0.15 m (0.175 s).
+TEST(SimulationSeed, HintsAreCheckedAgainstTheUnactuatedMotion) {
+  for (const double height : {0.1, 0.15}) {
+    Problem p = testing::pointMassDrop(0.0, height);
+    p.hints.push_back({{Quantity::Kind::Gap, 0}, 8, 0, 0.0, 0.0, "test.yaml:3:5"});
+    const Transcription t(p, Method::Impulsive);
+    const std::vector<HintReach> r = checkHints(t);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].origin, "test.yaml:3:5");
+    EXPECT_EQ(r[0].contact, "ball");
+    EXPECT_NEAR(r[0].earliest, 8 * 0.1 * 0.02, 1e-12);
+    EXPECT_NEAR(r[0].latest, 8 * 0.02, 1e-12);
+    EXPECT_NEAR(r[0].closes, std::sqrt(2 * height / kGravity), 1e-3);
+    EXPECT_EQ(r[0].reachable, height == 0.1) << "height " << height;
+  }
+}
+
+}  // namespace
+}  // namespace saltus::collocation

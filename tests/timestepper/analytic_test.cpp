@@ -1,5 +1,5 @@
 // The closed-form answers of timestepper/analytic.hpp against hand values and each other
-// (shared/reference/facts.md §3), the first-apex measurement on synthetic trajectories, and one
+// (elementary mechanics), the first-apex measurement on synthetic trajectories, and one
 // run of the time-stepper on the built-in ball_drop scene measured with it.
 #include "timestepper/analytic.hpp"
 
@@ -18,7 +18,7 @@ constexpr double g = 9.81;
 TEST(Analytic, BallApexes) {
   EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 0), 1.0);
   EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 1), 0.25);
-  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 2), 0.0625);  // facts.md §5: 0.25000 / 0.06250 m
+  EXPECT_DOUBLE_EQ(ballApex(1.0, 0.5, 2), 0.0625);  // e^(2k) h0: 0.25000 / 0.06250 m
   EXPECT_DOUBLE_EQ(ballApex(2.0, 0.8, 1), 2.0 * 0.64);
   EXPECT_DOUBLE_EQ(ballApex(1.0, 0.0, 1), 0.0);
 }
@@ -52,7 +52,7 @@ TEST(Analytic, LevelSlideStops) {
   EXPECT_NEAR(slideStopTime(v0, mu, 0, g), v0 / (mu * g), 1e-15);
   EXPECT_NEAR(slideStopDistance(v0, mu, 0, g), v0 * v0 / (2 * mu * g), 1e-15);
   EXPECT_NEAR(slideStopDistance(v0, mu, 0, g), 0.6796, 1e-4);
-  // facts.md §5: μ = 0.37, v0 = 2.3 m/s stops at 0.72871 m.
+  // v0²/(2μg): μ = 0.37, v0 = 2.3 m/s stops at 0.72871 m.
   EXPECT_NEAR(slideStopDistance(2.3, 0.37, 0, g), 0.72871, 1e-5);
 }
 

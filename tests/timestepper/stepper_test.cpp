@@ -1,4 +1,4 @@
-// The time-stepper against analytic answers (../shared/reference/facts.md §3), conservation
+// The time-stepper against analytic answers (elementary mechanics), conservation
 // and dissipation, convergence order on a smooth phase, and the Painlevé paradox.
 #include "timestepper/stepper.hpp"
 
@@ -148,7 +148,7 @@ TEST(Stepper, PendulumOnConveyorSticksAfterTheBeltSteps) {
 
 TEST(Stepper, PainleveRodStopsSlippingByAnImpulse) {
   const double mu = 2.0, angle = std::atan(2.0), dt = 1e-4;
-  // The paradox region: B = 1 + 3cos²θ − 3μ sinθ cosθ < 0 (facts.md §3).
+  // The paradox region: B = 1 + 3cos²θ − 3μ sinθ cosθ < 0 (Champneys & Várkonyi, IMA J. Appl. Math. 2016).
   ASSERT_LT(1 + 3 * std::pow(std::cos(angle), 2) - 3 * mu * std::sin(angle) * std::cos(angle), 0);
   TimeStepper sim(testing::painleveRod(mu, angle, 1.0), options(dt, 1.0));
   const double E0 = sim.energy();

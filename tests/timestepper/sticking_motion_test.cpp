@@ -90,7 +90,7 @@ TEST(PainleveRodMotion, ImpulseInsideTheConeExactlyInPainlevesRegion) {
     }
   EXPECT_GT(inside, 10);  // the grid spans both sides
   EXPECT_GT(outside, 10);
-  // The least μ of the paradox, 4/3 at tan θ = 2 (facts.md §3), is the boundary.
+  // The least μ of the paradox, 4/3 at tan θ = 2 (Champneys & Várkonyi 2016), is the boundary.
   EXPECT_NEAR(PainleveRodMotion(0.5, std::atan(2.0), 1.0, 4.0 / 3, kG).paradoxCoefficient(), 0, 1e-15);
 }
 
