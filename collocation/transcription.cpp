@@ -105,9 +105,10 @@ void Transcription::addCost(std::shared_ptr<const LocalFunction> f, std::vector<
 
 int Transcription::addProduct(const std::vector<int>& a_vars, const Eigen::VectorXd& a, double a0,
                               const std::vector<int>& b_vars, const Eigen::VectorXd& b, double b0,
-                              const std::string& name) {
+                              const std::string& name, double weight) {
   const int eps = addVariables(1, 0, kInf, "eps." + name);
   epsilon_.push_back(eps);
+  penalty_weights_.push_back(weight);
   std::vector<int> vars = a_vars;
   vars.insert(vars.end(), b_vars.begin(), b_vars.end());
   vars.push_back(eps);
@@ -285,7 +286,12 @@ void Transcription::buildContactConstraints(int n) {
       if (!restitution_[c])
         restitution_[c] = std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]});
       layout_[n].contacts[c].restitution_block = addBlock(restitution_[c], vars, 0, 0, "restitution." + tag + at(n, 0));
-      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0], C.a_plus, C.a_minus}, Eigen::Vector3d::Ones(), 0,
+      // (9b) as two products, r_n ⊥ y and r_n ⊥ a⁺ + a⁻ (the same complementarity: every factor
+      // is ≥ 0), so that an impulse in mid-air (the penalty's local minimum from a cold seed) is
+      // penalised on its own, with kMidAirImpulseWeight.
+      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0]}, Eigen::VectorXd::Ones(1), 0,
+                 "impact_gap." + tag + at(n, 0), kMidAirImpulseWeight);
+      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.a_plus, C.a_minus}, Eigen::Vector2d::Ones(), 0,
                  "impact." + tag + at(n, 0));
       // a⁺ ⊥ a⁻, so that a⁺ + a⁻ = |ẏ[n,0] + e ẏ[n−1,P+1]|: without it the pair is free whenever
       // the contact is open and the barrier drives both to huge values.
@@ -354,7 +360,8 @@ void Transcription::buildProblemConstraints() {
   }
   // Penalty Σ ε (paper eq. 8).
   if (!epsilon_.empty())
-    addCost(std::make_shared<LinearFunction>(Eigen::VectorXd::Ones(epsilon_.size())), epsilon_, kPenaltyCost);
+    addCost(std::make_shared<LinearFunction>(Eigen::Map<const Eigen::VectorXd>(penalty_weights_.data(), penalty_weights_.size())),
+            epsilon_, kPenaltyCost);
   // Task terms.
   const CostTerms& cost = problem_.cost;
   if (cost.effort_weight != 0 && nu_ > 0) {
