@@ -122,8 +122,9 @@ int optimize(const OptimizeOptions& opt) {
               : problem.seed_kind == SeedKind::Solution  ? "solution"
                                                          : "simulation";
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
-  if (problem.seed_kind == SeedKind::Simulation)
+  if (problem.seed_kind == SeedKind::Simulation && seeding.fallback.empty())
     j["simulation_seed"] = {{"dt", simulated.dt}, {"events", simulated.events}, {"passes", simulated.iterations}};
+  if (!seeding.fallback.empty()) j["seed_fallback"] = seeding.fallback;
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
@@ -163,7 +164,13 @@ int optimize(const OptimizeOptions& opt) {
   if (!r.note.empty()) j["note"] = r.note;
   // A failed solve with hints: could the problem's own motion meet them?
   std::vector<HintReach> hints;
-  if (!r.feasible && !problem.hints.empty()) hints = checkHints(t);
+  if (!r.feasible && !problem.hints.empty()) {
+    try {
+      hints = checkHints(t);
+    } catch (const std::runtime_error& e) {  // a diagnostic: the solve's files are written regardless
+      j["hints_not_checked"] = e.what();
+    }
+  }
   for (const HintReach& h : hints)
     j["hints"].push_back({{"origin", h.origin},
                           {"contact", h.contact},
@@ -182,6 +189,7 @@ int optimize(const OptimizeOptions& opt) {
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
             << opt.out << "\n";
   if (!r.note.empty()) std::cerr << "saltus optimize: " << r.note << "\n";
+  if (!seeding.fallback.empty()) std::cerr << "saltus optimize: " << seeding.fallback << "\n";
   for (const HintReach& h : hints)
     if (!h.reachable)
       std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1

@@ -1,6 +1,7 @@
 #include "collocation/seeding.hpp"
 
 #include <memory>
+#include <stdexcept>
 
 #include "collocation/saved_solution.hpp"
 
@@ -10,13 +11,21 @@ Seeding makeSeeding(const Transcription& t) {
   const Problem& p = t.problem();
   Seeding s;
   auto base = std::make_shared<Eigen::VectorXd>();
+  SeedKind kind = p.seed_kind;
   switch (p.seed_kind) {
-    case SeedKind::Simulation: *base = seedFromSimulation(t, &s.simulation); break;
+    case SeedKind::Simulation:
+      try {
+        *base = seedFromSimulation(t, &s.simulation);
+      } catch (const std::runtime_error& e) {
+        s.fallback = std::string(e.what()) + "; started from the null seed";
+        *base = t.nullSeed();
+        kind = SeedKind::Null;
+      }
+      break;
     case SeedKind::Solution: *base = seedFromSolution(t, loadSolution(p.seed_solution)); break;
     case SeedKind::Null:
     case SeedKind::Perturbed: *base = t.nullSeed(); break;
   }
-  const SeedKind kind = p.seed_kind;
   const double scale = p.seed_scale;
   const unsigned random_seed = p.random_seed;
   s.seed = [&t, base, kind, scale, random_seed](int k) -> Seed {

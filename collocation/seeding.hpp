@@ -10,6 +10,8 @@
 // seed, and a solution perturbed by at most 1e-3, are near a solution (Seed::warm) in attempt 0.
 #pragma once
 
+#include <string>
+
 #include "collocation/simulation_seed.hpp"
 #include "collocation/solver.hpp"
 
@@ -19,6 +21,8 @@ struct Seeding {
   SeedFunction seed;
   int restarts = 0;  // further attempts: the problem's, or 0 when no perturbation would change the point
   SimulationSeedReport simulation;  // a simulation seed's events and mesh
+  // Set when the simulation failed (a time-stepper error) and the null seed was used instead.
+  std::string fallback;
 };
 
 // Builds the base point now (a simulation seed runs the time-stepper; a solution seed reads its

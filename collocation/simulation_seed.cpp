@@ -181,8 +181,9 @@ std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> e
   // Anchors: (boundary index, time), strictly increasing in both.
   std::vector<std::pair<int, double>> anchors = {{0, 0.0}};
   for (double t : events) {
+    if (N < 2) break;
     const int b = std::clamp(static_cast<int>(std::lround(t / h0)), 1, N - 1);
-    if (N < 2 || b <= anchors.back().first) continue;
+    if (b <= anchors.back().first) continue;
     // Reachable from the previous anchor with lengths in [h_min, h_max].
     const int steps = b - anchors.back().first;
     const double span = t - anchors.back().second;
@@ -206,16 +207,22 @@ std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> e
   return h;
 }
 
+// The uniform element length the simulation starts from (see the header).
+double initialElementLength(const Problem& p) {
+  const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
+  double h0 = 0.5 * (h_min + h_max);
+  if (p.total_time_kind == TotalTime::Equal) h0 = p.total_time / p.N;
+  if (p.total_time_kind == TotalTime::AtLeast) h0 = std::max(h0, p.total_time / p.N);
+  return std::clamp(h0, h_min, h_max);
+}
+
 }  // namespace
 
 Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report) {
   const Problem& p = t.problem();
   const int N = p.N, nv = p.scene.model.nv();
-  const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
-  double h0 = 0.5 * (h_min + h_max);
-  if (p.total_time_kind == TotalTime::Equal) h0 = p.total_time / N;
-  if (p.total_time_kind == TotalTime::AtLeast) h0 = std::max(h0, p.total_time / N);
-  h0 = std::clamp(h0, h_min, h_max);
+  const double h_max = p.h_max;
+  const double h0 = initialElementLength(p);
   const double dt = h0 / 40;
 
   auto starts = [&](const std::vector<double>& h) {
@@ -353,20 +360,19 @@ std::vector<HintReach> checkHints(const Transcription& t) {
   const Problem& p = t.problem();
   std::vector<HintReach> out;
   const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
-  const double h0 = std::clamp(p.total_time_kind == TotalTime::Free ? 0.5 * (h_min + h_max)
-                                                                    : std::max(0.5 * (h_min + h_max), p.total_time / p.N),
-                               h_min, h_max);
+  const double h0 = initialElementLength(p);
   std::vector<double> starts(p.N + 1, 0.0);
   for (int n = 0; n < p.N; ++n) starts[n + 1] = starts[n] + h0;
   std::optional<Simulated> sim;
   for (const PointBound& b : p.hints) {
-    if (b.quantity.kind != Quantity::Kind::Gap || b.upper > 1e-6) continue;
+    // at one point only (a bound on every element or point is a condition, not a contact event)
+    if (b.quantity.kind != Quantity::Kind::Gap || b.upper > 1e-6 || b.element < 0 || b.point < 0) continue;
     if (!sim) sim = simulate(sceneAtMeshTimes(p, starts), h0 / 40, p.N * h_max + h0);
     HintReach r;
     r.origin = b.origin;
     r.contact = t.contacts().at(b.quantity.index).name;
-    r.element = std::max(0, b.element);
-    r.point = std::max(0, b.point);
+    r.element = b.element;
+    r.point = b.point;
     const double tau = r.point == 0 ? 0.0 : r.point > p.P ? 1.0 : LegendreGauss(p.P).tau[r.point - 1];
     r.earliest = (r.element + tau) * h_min;
     r.latest = (r.element + tau) * h_max;

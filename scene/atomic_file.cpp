@@ -18,7 +18,10 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "w");
   if (!f) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
-  const bool write_ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  // Flushed to the disk before the rename: after a crash the target is the old file or the
+  // whole new one, never an empty or cut one.
+  const bool write_ok = std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0 &&
+                        ::fsync(::fileno(f)) == 0;
   const bool close_ok = std::fclose(f) == 0;
   if (!write_ok || !close_ok) {
     std::remove(tmp.c_str());

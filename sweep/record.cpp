@@ -147,6 +147,14 @@ std::vector<CellSummary> summarise(const std::vector<SweepRecord>& records) {
 
 namespace {
 
+// A CSV field, quoted when it holds a comma, quote or line break.
+std::string field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 std::string number(double x) {
   if (std::isnan(x)) return "";
   std::ostringstream s;
@@ -179,7 +187,7 @@ std::string summaryCsv(const std::vector<CellSummary>& cells) {
   for (const CellSummary& c : cells) {
     std::string parameters;
     for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : " ") + name + "=" + formatValue(value);
-    csv << c.problem_name << "," << c.method << "," << parameters << "," << c.solves << "," << c.feasible << ","
+    csv << field(c.problem_name) << "," << c.method << "," << field(parameters) << "," << c.solves << "," << c.feasible << ","
         << c.physical << "," << c.successes << "," << number(c.success_rate) << "," << number(c.wall_all.median);
     for (const auto& [name, member] : kStatistics) {
       const Quartiles& q = c.*member;

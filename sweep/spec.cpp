@@ -1,6 +1,7 @@
 #include "sweep/spec.hpp"
 
 #include <charconv>
+#include <limits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -180,6 +181,8 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
     r.checkMap(seeds, "seeds", {"from", "count"});
     const int from = positiveInteger(r, r.required(seeds, "seeds", "from"), "seeds.from", 0);
     const int count = positiveInteger(r, r.required(seeds, "seeds", "count"), "seeds.count", 1);
+    if (count > 100000 || from > std::numeric_limits<int>::max() - count)
+      r.fail(seeds, "seeds", "expected at most 100000 seeds below " + std::to_string(std::numeric_limits<int>::max()));
     for (int k = 0; k < count; ++k) spec.seeds.push_back(static_cast<unsigned>(from + k));
   } else {
     r.fail(seeds, "seeds", "expected a list of seeds or {from: S, count: K}, got " + scene::describe(seeds));

@@ -133,6 +133,10 @@ TEST(SimulationSeed, HintsAreCheckedAgainstTheUnactuatedMotion) {
     EXPECT_NEAR(r[0].closes, std::sqrt(2 * height / kGravity), 1e-3);
     EXPECT_EQ(r[0].reachable, height == 0.1) << "height " << height;
   }
+  // A gap bound on every element is a condition, not a contact event: not checked.
+  Problem p = testing::pointMassDrop(0.0, 0.1);
+  p.hints.push_back({{Quantity::Kind::Gap, 0}, -1, 0, 0.0, 0.0, "test.yaml:4:5"});
+  EXPECT_TRUE(checkHints(Transcription(p, Method::Impulsive)).empty());
 }
 
 }  // namespace

@@ -85,6 +85,16 @@ TEST(SweepRecord, CellsCountSuccessesAndTakeStatisticsOverThem) {
   EXPECT_TRUE(j["cells"][1]["iterations"]["q1"].is_number());
 }
 
+TEST(SweepRecord, CsvQuotesNamesWithCommas) {
+  SweepRecord r = record("impulsive", 0, 1, true, true, 1.0, 10);
+  r.problem_name = "drop, \"tall\"";
+  std::istringstream csv(summaryCsv(summarise({r})));
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_EQ(row.substr(0, 41), "\"drop, \"\"tall\"\"\",impulsive,restitution=0,");
+}
+
 TEST(SweepRecord, JsonReadsBackAsWritten) {
   SweepRecord r = record("impulsive", 0.5, 7, true, false, 1.5, 150);
   r.command = "saltus optimize drop --seed 7";
