@@ -67,10 +67,12 @@ int optimize(const OptimizeOptions& opt) {
   }
   if (opt.seed) problem.random_seed = *opt.seed;
   if (!opt.seed_kind.empty()) {
-    if (opt.seed_kind == "null") problem.seed_kind = SeedKind::Null;
-    else if (opt.seed_kind == "perturbed") problem.seed_kind = SeedKind::Perturbed;
-    else if (opt.seed_kind == "simulation") problem.seed_kind = SeedKind::Simulation;
-    else throw UsageError("--seed-kind: expected null, perturbed or simulation, got '" + opt.seed_kind + "'");
+    try {
+      problem.seed_kind = parseSeedKind(opt.seed_kind);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--seed-kind: ") + e.what());
+    }
+    if (problem.seed_kind == SeedKind::Solution) throw UsageError("--seed-kind: a solution seed is given by --seed-from DIR");
     if (!opt.seed_from.empty()) throw UsageError("--seed-kind: not with --seed-from (which starts from a solution)");
   }
   if (!opt.seed_from.empty()) {
@@ -117,10 +119,7 @@ int optimize(const OptimizeOptions& opt) {
   j["N"] = problem.N;
   j["P"] = method == Method::FirstOrder ? 1 : problem.P;
   j["elements"] = t.elements();
-  j["seed"] = problem.seed_kind == SeedKind::Null        ? "null"
-              : problem.seed_kind == SeedKind::Perturbed ? "perturbed"
-              : problem.seed_kind == SeedKind::Solution  ? "solution"
-                                                         : "simulation";
+  j["seed"] = toString(problem.seed_kind);
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
   if (problem.seed_kind == SeedKind::Simulation && seeding.fallback.empty())
     j["simulation_seed"] = {{"dt", simulated.dt}, {"events", simulated.events}, {"passes", simulated.iterations}};

@@ -33,6 +33,24 @@ scene::Scene sceneAtMeshTimes(const Problem& problem, const std::vector<double>&
   return scene;
 }
 
+const char* toString(SeedKind k) {
+  switch (k) {
+    case SeedKind::Null: return "null";
+    case SeedKind::Perturbed: return "perturbed";
+    case SeedKind::Solution: return "solution";
+    case SeedKind::Simulation: return "simulation";
+  }
+  return "unknown";
+}
+
+SeedKind parseSeedKind(const std::string& name) {
+  const std::vector<std::string> names = {"null", "perturbed", "solution", "simulation"};
+  for (SeedKind k : {SeedKind::Null, SeedKind::Perturbed, SeedKind::Solution, SeedKind::Simulation})
+    if (name == toString(k)) return k;
+  throw std::invalid_argument("unknown seed '" + name + "'" + scene::suggestion(name, names) +
+                              "; expected one of: " + scene::joinNames(names));
+}
+
 void remesh(Problem& p, int N, int P) {
   if (N < 1) throw std::invalid_argument("N: expected at least 1 element, got " + std::to_string(N));
   if (P < 1) throw std::invalid_argument("P: expected at least 1 collocation point, got " + std::to_string(P));

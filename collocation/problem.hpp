@@ -73,6 +73,10 @@ enum class SeedKind {
   Simulation  // the time-stepper's motion from the initial state, the mesh on its impacts (simulation_seed.hpp)
 };
 
+const char* toString(SeedKind k);  // "null", "perturbed", "solution", "simulation"
+// The name of a seed kind; throws std::invalid_argument ("unknown seed 'x' …; expected one of: …").
+SeedKind parseSeedKind(const std::string& name);
+
 enum class TotalTime { Free, Equal, AtLeast };
 
 struct Problem {

@@ -420,14 +420,11 @@ void ProblemReader::readSolve(const YAML::Node& node) {
             "the tolerance must be positive, got " + fmt(p_.complementarity_tolerance));
   if (node["task_stage"].IsDefined()) p_.task_stage = r_.boolean(node["task_stage"], "solve.task_stage");
   if (const YAML::Node s = node["seed"]; s.IsDefined()) {
-    const std::string kind = s.IsNull() ? "null" : r_.text(s, "solve.seed");
-    if (kind == "null") p_.seed_kind = SeedKind::Null;
-    else if (kind == "perturbed") p_.seed_kind = SeedKind::Perturbed;
-    else if (kind == "solution") p_.seed_kind = SeedKind::Solution;
-    else if (kind == "simulation") p_.seed_kind = SeedKind::Simulation;
-    else
-      r_.fail(s, "solve.seed", "unknown seed '" + kind + "'" + suggestion(kind, {"null", "perturbed", "solution", "simulation"}) +
-                                   "; expected one of: null, perturbed, solution, simulation");
+    try {
+      p_.seed_kind = parseSeedKind(s.IsNull() ? "null" : r_.text(s, "solve.seed"));
+    } catch (const std::invalid_argument& e) {
+      r_.fail(s, "solve.seed", e.what());
+    }
   }
   p_.seed_scale = r_.number(node, "solve", "seed_scale", p_.seed_scale);
   if (!(p_.seed_scale >= 0))

@@ -111,141 +111,141 @@ pid_t spawn(const std::string& saltus, const std::vector<std::string>& args, con
 
 void replayCheck(SweepRecord& r, const std::string& solution_dir, const ReplayCheck& check) {
   try {
-      const collocation::SavedSolution solution = collocation::loadSolution(solution_dir);
-      verify::ReplayOptions o;
-      o.engines = {verify::ReplayEngine::Saltus};
-      o.dt = check.dt;
-      o.tolerance = check.tolerance;
-      o.max_series = 2;  // only the figures are kept
-      const verify::ReplayResult result = verify::replay(solution, o);
-      const verify::EngineReplay& e = result.engines.at(0);
-      r.replay_deviation = e.max_position_deviation;
-      r.physical = e.completed && e.within_tolerance;
-      if (!e.completed) r.replay_message = e.message;
-    } catch (const std::exception& e) {
-      r.physical = false;
-      r.replay_message = e.what();
+    const collocation::SavedSolution solution = collocation::loadSolution(solution_dir);
+    verify::ReplayOptions o;
+    o.engines = {verify::ReplayEngine::Saltus};
+    o.dt = check.dt;
+    o.tolerance = check.tolerance;
+    o.max_series = 2;  // only the figures are kept
+    const verify::ReplayResult result = verify::replay(solution, o);
+    const verify::EngineReplay& e = result.engines.at(0);
+    r.replay_deviation = e.max_position_deviation;
+    r.physical = e.completed && e.within_tolerance;
+    if (!e.completed) r.replay_message = e.message;
+  } catch (const std::exception& e) {
+    r.physical = false;
+    r.replay_message = e.what();
+  }
+}
+
+}  // namespace
+
+std::string shellCommand(const std::vector<std::string>& arguments) {
+  std::string s;
+  for (const std::string& a : arguments) {
+    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                          "0123456789_-.,/=+:@%") == std::string::npos;
+    if (!s.empty()) s += ' ';
+    if (plain) {
+      s += a;
+    } else {
+      s += '\'';
+      for (char ch : a) s += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+      s += '\'';
     }
   }
+  return s;
+}
 
-  }  // namespace
+std::string caseDirectory(const std::string& out, const SweepCase& c) {
+  return (fs::path(out) / "runs" / c.id).string();
+}
 
-  std::string shellCommand(const std::vector<std::string>& arguments) {
-    std::string s;
-    for (const std::string& a : arguments) {
-      const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                            "0123456789_-.,/=+:@%") == std::string::npos;
-      if (!s.empty()) s += ' ';
-      if (plain) {
-        s += a;
-      } else {
-        s += '\'';
-        for (char ch : a) s += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-        s += '\'';
-      }
-    }
-    return s;
-  }
-
-  std::string caseDirectory(const std::string& out, const SweepCase& c) {
-    return (fs::path(out) / "runs" / c.id).string();
-  }
-
-  std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<SweepCase>& cases) {
-    std::vector<SweepRecord> records;
-    for (const SweepCase& c : cases) {
-      const fs::path path = fs::path(caseDirectory(out, c)) / "record.json";
-      if (!fs::exists(path)) continue;
-      std::ifstream in(path);
-      try {
-        records.push_back(recordFromJson(nlohmann::json::parse(in)));
-      } catch (const std::exception& e) {
-        throw std::runtime_error(path.string() + ": " + e.what());
-      }
-    }
-    return records;
-  }
-
-  SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,
-                         const ReplayCheck& check) {
-    SweepRecord r;
-    r.id = c.id;
-    r.problem = c.problem;
-    r.problem_name = c.problem_name;
-    r.method = c.method;
-    r.set = c.set;
-    r.seed = c.seed;
-    r.command = command;
-    r.exit_code = exit_code;
-    const fs::path solution = fs::path(case_dir) / "solution";
-    const fs::path summary = solution / "summary.json";
-    if (!fs::exists(summary)) {
-      r.status = "error";
-      r.error = lastLine((fs::path(case_dir) / "optimize.log").string());
-      if (r.error.empty()) r.error = "saltus optimize ended with status " + std::to_string(exit_code) + " and no message";
-      return r;
-    }
+std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<SweepCase>& cases) {
+  std::vector<SweepRecord> records;
+  for (const SweepCase& c : cases) {
+    const fs::path path = fs::path(caseDirectory(out, c)) / "record.json";
+    if (!fs::exists(path)) continue;
+    std::ifstream in(path);
     try {
-      std::ifstream in(summary);
-      const nlohmann::json j = nlohmann::json::parse(in);
-      r.status = j.at("stages").back().at("status").get<std::string>();
-      r.feasible = j.at("feasible").get<bool>();
-      r.iterations = j.at("iterations").get<int>();
-      r.wall_seconds = j.at("wall_seconds").get<double>();
-      r.evaluation_seconds = j.at("evaluation_seconds").get<double>();
-      r.largest_product = j.at("largest_product").get<double>();
-      r.mean_local_error = j.at("mean_local_error").get<double>();
-      r.objective = j.at("objective").get<double>();
-      r.variables = j.at("variables").get<int>();
-      r.constraints = j.at("constraints").get<int>();
-      r.attempts = static_cast<int>(j.at("attempts").size());
+      records.push_back(recordFromJson(nlohmann::json::parse(in)));
     } catch (const std::exception& e) {
-      r.status = "error";
-      r.error = summary.string() + ": " + e.what();
-      return r;
+      throw std::runtime_error(path.string() + ": " + e.what());
     }
-    if (check.enabled && r.feasible) replayCheck(r, solution.string(), check);
+  }
+  return records;
+}
+
+SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,
+                       const ReplayCheck& check) {
+  SweepRecord r;
+  r.id = c.id;
+  r.problem = c.problem;
+  r.problem_name = c.problem_name;
+  r.method = c.method;
+  r.set = c.set;
+  r.seed = c.seed;
+  r.command = command;
+  r.exit_code = exit_code;
+  const fs::path solution = fs::path(case_dir) / "solution";
+  const fs::path summary = solution / "summary.json";
+  if (!fs::exists(summary)) {
+    r.status = "error";
+    r.error = lastLine((fs::path(case_dir) / "optimize.log").string());
+    if (r.error.empty()) r.error = "saltus optimize ended with status " + std::to_string(exit_code) + " and no message";
     return r;
   }
+  try {
+    std::ifstream in(summary);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    r.status = j.at("stages").back().at("status").get<std::string>();
+    r.feasible = j.at("feasible").get<bool>();
+    r.iterations = j.at("iterations").get<int>();
+    r.wall_seconds = j.at("wall_seconds").get<double>();
+    r.evaluation_seconds = j.at("evaluation_seconds").get<double>();
+    r.largest_product = j.at("largest_product").get<double>();
+    r.mean_local_error = j.at("mean_local_error").get<double>();
+    r.objective = j.at("objective").get<double>();
+    r.variables = j.at("variables").get<int>();
+    r.constraints = j.at("constraints").get<int>();
+    r.attempts = static_cast<int>(j.at("attempts").size());
+  } catch (const std::exception& e) {
+    r.status = "error";
+    r.error = summary.string() + ": " + e.what();
+    return r;
+  }
+  if (check.enabled && r.feasible) replayCheck(r, solution.string(), check);
+  return r;
+}
 
-  RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
-                     const RunnerOptions& options, const std::function<void(const Progress&)>& progress) {
-    fs::create_directories(fs::path(out) / "runs");
-    DirectoryLock lock(out);
-    RunResult result;
-    std::vector<const SweepCase*> pending;
-    Progress p;
-    p.total = static_cast<int>(cases.size());
-    for (const SweepCase& c : cases) {
-      if (fs::exists(fs::path(caseDirectory(out, c)) / "record.json"))
-        ++p.skipped;
-      else
-        pending.push_back(&c);
-    }
-    p.done = p.skipped;
-    for (const SweepRecord& r : readRecords(out, cases)) p.failed += !r.success();
+RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
+                   const RunnerOptions& options, const std::function<void(const Progress&)>& progress) {
+  fs::create_directories(fs::path(out) / "runs");
+  DirectoryLock lock(out);
+  RunResult result;
+  std::vector<const SweepCase*> pending;
+  Progress p;
+  p.total = static_cast<int>(cases.size());
+  for (const SweepCase& c : cases) {
+    if (fs::exists(fs::path(caseDirectory(out, c)) / "record.json"))
+      ++p.skipped;
+    else
+      pending.push_back(&c);
+  }
+  p.done = p.skipped;
+  for (const SweepRecord& r : readRecords(out, cases)) p.failed += !r.success();
 
-    SignalGuard signals;
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    struct Running {
-      const SweepCase* c;
-      std::string dir, command;
-    };
-    std::map<pid_t, Running> running;
-    // Stops the solves still running (on an interrupt, or an error leaving this function).
-    auto stopAll = [&] {
-      for (const auto& [pid, job] : running) ::kill(pid, SIGTERM);
-      for (const auto& [pid, job] : running) {
-        int status = 0;
-        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
+  SignalGuard signals;
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  struct Running {
+    const SweepCase* c;
+    std::string dir, command;
+  };
+  std::map<pid_t, Running> running;
+  // Stops the solves still running (on an interrupt, or an error leaving this function).
+  auto stopAll = [&] {
+    for (const auto& [pid, job] : running) ::kill(pid, SIGTERM);
+    for (const auto& [pid, job] : running) {
+      int status = 0;
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
       }
-      running.clear();
-    };
-    std::size_t next = 0;
-    const int jobs = std::max(1, options.jobs);
-    try {
+    }
+    running.clear();
+  };
+  std::size_t next = 0;
+  const int jobs = std::max(1, options.jobs);
+  try {
     if (progress) progress(p);
     while ((next < pending.size() || !running.empty()) && !g_interrupted) {
       while (next < pending.size() && static_cast<int>(running.size()) < jobs && !g_interrupted) {

@@ -71,8 +71,12 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
   }
   if (n["seed"]) {
     o.seed_kind = r.text(n["seed"], "options.seed");
-    if (o.seed_kind != "null" && o.seed_kind != "perturbed" && o.seed_kind != "simulation")
-      r.fail(n["seed"], "options.seed", "expected null, perturbed or simulation, got '" + o.seed_kind + "'");
+    try {
+      if (collocation::parseSeedKind(o.seed_kind) == collocation::SeedKind::Solution)
+        r.fail(n["seed"], "options.seed", "a solution seed is not for a sweep; expected null, perturbed or simulation");
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["seed"], "options.seed", e.what());
+    }
   }
   if (n["hessian"]) {
     o.hessian = r.text(n["hessian"], "options.hessian");

@@ -107,6 +107,8 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {N: 0}\n")
                 .find("options.N: expected an integer ≥ 1"),
             std::string::npos);
+  const std::string seed = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {seed: simulatoin}\n");
+  EXPECT_NE(seed.find("options.seed: unknown seed 'simulatoin' (did you mean 'simulation'?)"), std::string::npos) << seed;
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n---\nseeds: [2]\n")
                 .find("a sweep spec is one YAML document"),
             std::string::npos);
