@@ -121,7 +121,8 @@ int optimize(const OptimizeOptions& opt) {
   j["elements"] = t.elements();
   j["seed"] = toString(problem.seed_kind);
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
-  if (problem.seed_kind == SeedKind::Simulation && seeding.fallback.empty())
+  if ((problem.seed_kind == SeedKind::Simulation || problem.seed_kind == SeedKind::PerturbedSimulation) &&
+      seeding.fallback.empty())
     j["simulation_seed"] = {{"dt", simulated.dt}, {"events", simulated.events}, {"passes", simulated.iterations}};
   if (!seeding.fallback.empty()) j["seed_fallback"] = seeding.fallback;
   j["seed_scale"] = problem.seed_scale;
@@ -210,8 +211,8 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--N", opt->N, "finite elements (overrides the file)");
   app->add_option("--seed", opt->seed, "random seed of the perturbation of the initial guess");
   app->add_option("--seed-kind", opt->seed_kind,
-                  "initial guess: null, perturbed (the null guess plus random values) or simulation (the time-stepper's "
-                  "motion, mesh on its impacts)");
+                  "initial guess: null, perturbed (the null guess plus random values), simulation (the time-stepper's "
+                  "motion, mesh on its impacts) or perturbed-simulation (plus random values)");
   app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
   app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
   app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");

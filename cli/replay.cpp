@@ -19,6 +19,7 @@
 // of a feasible solution differs from it at first order in dt (an impact resolved up to one step
 // late shifts the position by up to |Δv| dt, 2.1e-4 m for the bounce of point_mass_drop at
 // dt 1e-4); verify/replay.hpp has the measurements behind the factor, the README the figures.
+// A first-order solution's default tolerance adds its own step error (max |q̇| × longest step).
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -129,7 +130,10 @@ nlohmann::ordered_json reportJson(const ReplayResult& r, const std::string& dir)
                                                           r.options.input_offset.data() + r.options.input_offset.size())}};
   }
   j["tolerance"] = r.tolerance;
-  j["tolerance_rule"] = r.options.tolerance > 0 ? "given (--tolerance)" : "10 m/s x dt (default)";
+  j["tolerance_rule"] = r.options.tolerance > 0       ? "given (--tolerance)"
+                        : r.method_allowance > 0    ? "10 m/s x dt + the first-order scheme's error (max |v| x longest step)"
+                                                    : "10 m/s x dt (default)";
+  if (r.method_allowance > 0) j["method_allowance"] = r.method_allowance;
   j["tolerance_applies_to"] = "max_position_deviation: largest |q_i - q*_i| over steps and coordinates [m or rad]";
   j["within_tolerance"] = r.withinTolerance();
   j["coordinates"] = r.coordinates;

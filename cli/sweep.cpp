@@ -76,8 +76,8 @@ std::string quartileText(const Quartiles& q, int digits = 3) {
   return formatNumber(q.median, digits) + " [" + formatNumber(q.q1, digits) + ", " + formatNumber(q.q3, digits) + "]";
 }
 
-std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases, const std::vector<SweepRecord>& records,
-                   const std::vector<CellSummary>& cells, bool charts) {
+std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases, const std::vector<SkippedCell>& skipped,
+                   const std::vector<SweepRecord>& records, const std::vector<CellSummary>& cells, bool charts) {
   std::ostringstream md;
   md << "# Sweep " << fs::path(opt.spec).filename().string() << "\n\n"
      << "Spec `" << opt.spec << "`; " << records.size() << " of " << cases.size() << " solves have a record"
@@ -99,6 +99,16 @@ std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases,
   int total = 0, successes = 0;
   for (const CellSummary& c : cells) total += c.solves, successes += c.successes;
   md << "\nOverall: " << successes << " of " << total << " solves succeeded.\n";
+  if (!skipped.empty()) {
+    md << "\n## Not applicable\n\nCells left out because their method cannot represent the problem there:\n\n"
+          "| problem | method | parameters | why |\n|---|---|---|---|\n";
+    for (const SkippedCell& c : skipped) {
+      std::string parameters;
+      for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : ", ") + name + " = " + formatValue(value);
+      md << "| " << c.problem_name << " | " << c.method << " | " << (parameters.empty() ? "–" : parameters) << " | "
+         << c.reason << " |\n";
+    }
+  }
   if (charts)
     md << "\n## Charts\n\nPer cell and method: median (marker), range (thin line), interquartile range (thick line), "
           "as in the paper's Figs. 6–8 (Shield, Johnson & Patel, IEEE T-RO 2023).\n\n"
@@ -119,7 +129,12 @@ std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases,
 
 int sweepCommand(const SweepOptions& opt) {
   const SweepSpec spec = readSweepSpec(opt.spec);
-  const std::vector<SweepCase> cases = expandSweep(spec);
+  std::vector<SkippedCell> skipped;
+  const std::vector<SweepCase> cases = expandSweep(spec, &skipped);
+  if (!skipped.empty())
+    std::cerr << "saltus sweep: " << skipped.size() << " cell(s) left out, their method cannot represent the problem there ("
+              << skipped.front().method << ", " << skipped.front().problem_name << ": " << skipped.front().reason
+              << (skipped.size() > 1 ? "; ..." : "") << "); report.md lists them\n";
   if (opt.list) {
     for (const SweepCase& c : cases) {
       std::vector<std::string> args = c.optimizeArguments(spec.options, caseDirectory(opt.out, c) + "/solution");
@@ -154,7 +169,7 @@ int sweepCommand(const SweepOptions& opt) {
       chart_error = e.what();
     }
   }
-  writeFileAtomically((out / "report.md").string(), report(opt, cases, result.records, cells, charts));
+  writeFileAtomically((out / "report.md").string(), report(opt, cases, skipped, result.records, cells, charts));
   int successes = 0;
   for (const SweepRecord& r : result.records) successes += r.success();
   std::cerr << "saltus sweep: " << result.records.size() << " of " << cases.size() << " solves have a record ("

@@ -39,14 +39,19 @@ const char* toString(SeedKind k) {
     case SeedKind::Perturbed: return "perturbed";
     case SeedKind::Solution: return "solution";
     case SeedKind::Simulation: return "simulation";
+    case SeedKind::PerturbedSimulation: return "perturbed-simulation";
   }
   return "unknown";
 }
 
 SeedKind parseSeedKind(const std::string& name) {
-  const std::vector<std::string> names = {"null", "perturbed", "solution", "simulation"};
-  for (SeedKind k : {SeedKind::Null, SeedKind::Perturbed, SeedKind::Solution, SeedKind::Simulation})
+  const std::vector<SeedKind> kinds = {SeedKind::Null, SeedKind::Perturbed, SeedKind::Solution, SeedKind::Simulation,
+                                       SeedKind::PerturbedSimulation};
+  std::vector<std::string> names;
+  for (SeedKind k : kinds) {
     if (name == toString(k)) return k;
+    names.emplace_back(toString(k));
+  }
   throw std::invalid_argument("unknown seed '" + name + "'" + scene::suggestion(name, names) +
                               "; expected one of: " + scene::joinNames(names));
 }

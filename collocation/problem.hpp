@@ -70,10 +70,11 @@ enum class SeedKind {
   Null,       // zero everywhere, positions at the initial state, h = h_max (the paper's default vector)
   Perturbed,  // null, plus uniform random values in [0, seed_scale] on positions and reactions
   Solution,   // an earlier solution (its variables.csv, saved_solution.hpp), perturbed by seed_scale
-  Simulation  // the time-stepper's motion from the initial state, the mesh on its impacts (simulation_seed.hpp)
+  Simulation,  // the time-stepper's motion from the initial state, the mesh on its impacts (simulation_seed.hpp)
+  PerturbedSimulation  // the simulation seed plus uniform random values in [0, seed_scale], as `Perturbed`
 };
 
-const char* toString(SeedKind k);  // "null", "perturbed", "solution", "simulation"
+const char* toString(SeedKind k);  // "null", "perturbed", "solution", "simulation", "perturbed-simulation"
 // The name of a seed kind; throws std::invalid_argument ("unknown seed 'x' …; expected one of: …").
 SeedKind parseSeedKind(const std::string& name);
 

@@ -14,12 +14,13 @@ Seeding makeSeeding(const Transcription& t) {
   SeedKind kind = p.seed_kind;
   switch (p.seed_kind) {
     case SeedKind::Simulation:
+    case SeedKind::PerturbedSimulation:
       try {
         *base = seedFromSimulation(t, &s.simulation);
       } catch (const std::runtime_error& e) {
         s.fallback = std::string(e.what()) + "; started from the null seed";
         *base = t.nullSeed();
-        kind = SeedKind::Null;
+        kind = p.seed_kind == SeedKind::Simulation ? SeedKind::Null : SeedKind::Perturbed;
       }
       break;
     case SeedKind::Solution: *base = seedFromSolution(t, loadSolution(p.seed_solution)); break;

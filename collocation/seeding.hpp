@@ -4,8 +4,11 @@
 //   null        zero everywhere, positions at the initial state, h in the middle of its bounds
 //   perturbed   the null point plus uniform random values in [0, seed_scale] on the positions and
 //               normal reactions (paper §V.C)
+//   perturbed-simulation  the simulation seed plus the same random values: robustness near it,
+//               one point per random seed
 //   solution    an earlier solution (saved_solution.hpp), perturbed by seed_scale
-// Attempt 0 starts from that point (perturbed for `perturbed` and `solution`, with random_seed);
+// Attempt 0 starts from that point (perturbed for `perturbed`, `perturbed-simulation` and `solution`, with
+// random_seed);
 // attempt k ≥ 1, after an infeasible end, from it perturbed with random_seed + k. A simulation
 // seed, and a solution perturbed by at most 1e-3, are near a solution (Seed::warm) in attempt 0.
 #pragma once

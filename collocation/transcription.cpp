@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 namespace saltus::collocation {
@@ -9,6 +10,21 @@ namespace saltus::collocation {
 namespace {
 std::string at(int n, int p) { return "[" + std::to_string(n + 1) + "," + std::to_string(p) + "]"; }
 }  // namespace
+
+std::string methodCannotTake(const Problem& problem, Method method) {
+  if (method == Method::Impulsive) return "";
+  auto refuse = [&](const std::string& what, double e) {
+    std::ostringstream m;
+    m << "the " << toString(method) << " method cannot represent restitution: " << what << " has e = " << e
+      << " (> 0); use --method impulsive, or restitution 0";
+    return m.str();
+  };
+  for (const scene::Contact& c : problem.scene.contacts)
+    if (c.restitution > 0) return refuse("contact '" + c.name + "'", c.restitution);
+  for (const scene::LimitStop& l : problem.scene.limits)
+    if (l.restitution > 0) return refuse("joint stop '" + l.name + "'", l.restitution);
+  return "";
+}
 
 Transcription::Transcription(const Problem& problem, Method method)
     : problem_(problem), method_(method), lg_(method == Method::FirstOrder ? 1 : problem.P) {
@@ -23,12 +39,7 @@ Transcription::Transcription(const Problem& problem, Method method)
   models_ = std::make_unique<ModelSet>(model);
   buildContacts();
   restitution_.resize(contacts_.size());
-  if (method == Method::Continuous)
-    for (const ContactPoint& c : contacts_)
-      if (c.e > 0)
-        throw std::invalid_argument(
-            "the continuous method cannot represent restitution: contact '" + c.name + "' has e = " +
-            std::to_string(c.e) + " (> 0); use --method impulsive, or restitution 0");
+  if (const std::string why = methodCannotTake(problem, method); !why.empty()) throw std::invalid_argument(why);
   buildVariables();
   for (int n = 0; n < elements(); ++n) {
     buildElementConstraints(n);

@@ -76,8 +76,15 @@ struct ElementLayout {
   std::vector<ContactVars> contacts;
 };
 
+// Why `method` cannot represent `problem`, or "" when it can: only the impulsive method has a
+// restitution law (9); the continuous one has no velocity jumps and the first-order one (Posa,
+// Cantu & Tedrake's backward Euler) stops every impact inelastically, so both refuse a contact
+// or joint stop with e > 0 rather than silently solve a different problem.
+std::string methodCannotTake(const Problem& problem, Method method);
+
 class Transcription {
  public:
+  // Throws std::invalid_argument with methodCannotTake's reason, or for a bad mesh.
   Transcription(const Problem& problem, Method method);
 
   const Problem& problem() const { return problem_; }

@@ -73,7 +73,7 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     o.seed_kind = r.text(n["seed"], "options.seed");
     try {
       if (collocation::parseSeedKind(o.seed_kind) == collocation::SeedKind::Solution)
-        r.fail(n["seed"], "options.seed", "a solution seed is not for a sweep; expected null, perturbed or simulation");
+        r.fail(n["seed"], "options.seed", "a solution seed is not for a sweep; expected null, perturbed, simulation or perturbed-simulation");
     } catch (const std::invalid_argument& e) {
       r.fail(n["seed"], "options.seed", e.what());
     }
@@ -228,8 +228,9 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   return a;
 }
 
-std::vector<SweepCase> expandSweep(const SweepSpec& spec) {
+std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCell>* skipped) {
   std::vector<SweepCase> cases;
+  std::string first_reason;
   std::set<std::string> ids;
   for (std::size_t pi = 0; pi < spec.problems.size(); ++pi) {
     const ProblemEntry& entry = spec.problems[pi];
@@ -260,6 +261,12 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec) {
         throw scene::ScenarioError(where + (set.empty() ? "" : " with " + set) + ": " + e.what());
       }
       for (const std::string& method : spec.methods) {
+        if (const std::string why = collocation::methodCannotTake(problem, collocation::parseMethod(method));
+            !why.empty()) {
+          if (first_reason.empty()) first_reason = where + ", method " + method + ": " + why;
+          if (skipped) skipped->push_back({problem.name, method, values, why});
+          continue;
+        }
         try {
           const collocation::Transcription check(problem, collocation::parseMethod(method));
         } catch (const std::invalid_argument& e) {
@@ -284,6 +291,8 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec) {
       }
     }
   }
+  if (cases.empty() && !first_reason.empty())
+    throw scene::ScenarioError(first_reason + " (and no other solve is left in the grid)");
   return cases;
 }
 

@@ -74,11 +74,20 @@ SweepSpec readSweepSpec(const std::string& path);
 // against its folder.
 SweepSpec parseSweepSpec(const std::string& text, const std::string& file);
 
+// A cell of the grid left out because its method cannot represent the problem there
+// (collocation::methodCannotTake: restitution for the continuous and first-order methods).
+struct SkippedCell {
+  std::string problem_name, method;
+  std::map<std::string, double> set;
+  std::string reason;
+};
+
 // The grid, in a fixed order (problem, method, parameter values, seed). Loads every problem with
 // each parameter combination (and transcribes it for each method), so that an unknown
-// parameter, a refused value or a method the problem cannot take is an error now, naming the
-// spec's key.
-std::vector<SweepCase> expandSweep(const SweepSpec& spec);
+// parameter, a refused value or a bad mesh is an error now, naming the spec's key. Cells whose
+// method cannot represent the problem are left out (listed in `skipped` when given); a grid
+// left with no solve at all is an error naming the first reason.
+std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCell>* skipped = nullptr);
 
 // A value as it appears in ids and commands: shortest text that reads back to the same double.
 std::string formatValue(double x);

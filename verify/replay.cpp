@@ -299,6 +299,14 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
       R.u_applied.push_back(k < n_steps ? u_mean[k] : u_mean[k - 1]);
     }
   }
+  if (tr.method() == collocation::Method::FirstOrder && options.tolerance <= 0) {
+    double speed = 0, step = 0;
+    for (const Eigen::VectorXd& v : v_opt) speed = std::max(speed, v.cwiseAbs().maxCoeff());
+    const std::vector<double> steps = traj.meshTimes();  // a first-order element is one step
+    for (std::size_t n = 1; n < steps.size(); ++n) step = std::max(step, steps[n] - steps[n - 1]);
+    R.method_allowance = speed * step;
+    R.tolerance += R.method_allowance;
+  }
 
   // Optimised events: closings on the grid, impacts from the velocity jumps.
   closingEvents(gaps_opt, t_grid, options.gap_threshold, R.optimised_events);

@@ -98,13 +98,16 @@ TEST(Optimize, SeedFromAMissingSolutionIsAnError) {
   EXPECT_FALSE(fs::exists(dir)) << "nothing written before the solve";
 }
 
-TEST(Optimize, ContinuousRefusesRestitution) {
-  const fs::path dir = freshDir("refuse");
-  const auto r = runSaltus({"optimize", "point_mass_drop", "--method", "continuous", "--set", "restitution=0.5",
-                            "--out", dir.string()});
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("continuous method cannot represent restitution"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(dir));
+TEST(Optimize, ContinuousAndFirstOrderRefuseRestitution) {
+  for (const std::string method : {"continuous", "first-order"}) {
+    const fs::path dir = freshDir("refuse");
+    const auto r = runSaltus({"optimize", "point_mass_drop", "--method", method, "--set", "restitution=0.5",
+                              "--out", dir.string()});
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(method + " method cannot represent restitution: contact 'ball' has e = 0.5"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir));
+  }
 }
 
 TEST(Optimize, BadInputNamesWhatWasExpected) {

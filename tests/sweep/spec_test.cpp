@@ -116,11 +116,32 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
   const std::string unknown = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nset: {mass: [1]}\nseeds: [1]\n");
   EXPECT_NE(unknown.find("spec.yaml: problems[0] (point_mass_drop) with mass=1: "), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("mass"), std::string::npos);
-  // A method the problem cannot take.
+  // A method that can take no cell of the grid.
   const std::string method =
       errorOf("problems: [point_mass_drop]\nmethods: [continuous]\nset: {restitution: [0.5]}\nseeds: [1]\n");
   EXPECT_NE(method.find("method continuous: the continuous method cannot represent restitution"), std::string::npos)
       << method;
+  EXPECT_NE(method.find("no other solve is left in the grid"), std::string::npos) << method;
+}
+
+TEST(SweepSpec, LeavesOutTheCellsAMethodCannotRepresent) {
+  // Restitution: the impulsive method takes every cell, the first-order and continuous ones only e = 0.
+  const SweepSpec spec = parseSweepSpec(
+      "problems: [point_mass_drop]\nmethods: [impulsive, first-order, continuous]\n"
+      "set: {restitution: [0, 0.5]}\nseeds: [1, 2]\n",
+      "spec.yaml");
+  std::vector<SkippedCell> skipped;
+  const std::vector<SweepCase> cases = expandSweep(spec, &skipped);
+  EXPECT_EQ(cases.size(), 8u);  // impulsive 2 cells, the others 1 cell each; 2 seeds
+  for (const SweepCase& c : cases)
+    if (c.method != "impulsive") EXPECT_EQ(c.set.at("restitution"), 0.0) << c.id;
+  ASSERT_EQ(skipped.size(), 2u);
+  EXPECT_EQ(skipped[0].method, "first-order");
+  EXPECT_EQ(skipped[0].set.at("restitution"), 0.5);
+  EXPECT_NE(skipped[0].reason.find("first-order method cannot represent restitution: contact 'ball' has e = 0.5"),
+            std::string::npos)
+      << skipped[0].reason;
+  EXPECT_EQ(skipped[1].method, "continuous");
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {

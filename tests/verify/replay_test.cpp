@@ -237,12 +237,6 @@ TEST(Replay, RefusesBadOptions) {
   EXPECT_THROW(parseFeedback("pid"), std::invalid_argument);
 }
 
-}  // namespace
-}  // namespace saltus::verify
-
-namespace saltus::verify {
-namespace {
-
 // The belt's step is given on the problem's elements ([6, 0]); the first-order method has
 // first_order_steps_per_element steps per element, so the step happens at step 6·spe's time.
 TEST(Replay, FirstOrderBeltStepsAtItsElementsMeshTime) {
@@ -263,6 +257,47 @@ TEST(Replay, FirstOrderBeltStepsAtItsElementsMeshTime) {
   for (std::size_t i = 0; i < steps.size(); ++i)
     EXPECT_DOUBLE_EQ(schedule[i].time, s.trajectory().meshTimes()[steps[i].element * spe]) << "step " << i;
   std::filesystem::remove_all(dir);
+}
+
+// A first-order solution is replayed against its own O(h) error: the default tolerance adds one
+// step's travel at the top speed. The inelastic drop from 0.2 m (v = sqrt(2 g h) = 1.98 m/s at
+// the landing): the deviation is first order in the step (halved with twice the elements) and
+// within the allowance, and the allowance is max |ż| × longest step.
+TEST(Replay, FirstOrderSolutionWithinItsOwnStepError) {
+  std::vector<double> deviation;
+  for (int N : {10, 20}) {
+    SavedSolution s;
+    s.problem = std::make_unique<collocation::Problem>(collocation::loadProblem("point_mass_drop", {{"height", 0.2}}));
+    collocation::remesh(*s.problem, N, s.problem->P);
+    s.problem->h_max *= 20.0 / N;
+    s.transcription = std::make_unique<collocation::Transcription>(*s.problem, collocation::Method::FirstOrder);
+    const collocation::Seeding seeding = collocation::makeSeeding(*s.transcription);
+    collocation::SolveOptions so;
+    so.restarts = seeding.restarts;
+    const collocation::SolveReport r = collocation::solve(*s.transcription, seeding.seed, so);
+    ASSERT_TRUE(r.feasible) << "N = " << N << ": " << r.stages.back().status;
+    s.x = r.x;
+    const ReplayResult R = replay(s, replayOptions({ReplayEngine::Saltus}));
+    const EngineReplay& e = R.engines.at(0);
+    ASSERT_TRUE(e.completed) << e.message;
+    const std::vector<double> mesh = s.trajectory().meshTimes();
+    double step = 0;
+    for (std::size_t n = 1; n < mesh.size(); ++n) step = std::max(step, mesh[n] - mesh[n - 1]);
+    // max |ż| is the scheme's landing speed, below the exact one by its own O(h) error.
+    EXPECT_NEAR(R.method_allowance, std::sqrt(2 * 9.81 * 0.2) * step, 0.1 * R.method_allowance) << "N = " << N;
+    EXPECT_DOUBLE_EQ(R.tolerance, 1e-3 + R.method_allowance);
+    EXPECT_TRUE(e.within_tolerance) << "N = " << N << ": " << e.max_position_deviation << " > " << R.tolerance;
+    EXPECT_GT(e.max_position_deviation, 1e-3) << "N = " << N << ": a first-order solution beyond 10 m/s × dt";
+    deviation.push_back(e.max_position_deviation);
+    // A given tolerance is applied as it is.
+    ReplayOptions given = replayOptions({ReplayEngine::Saltus});
+    given.tolerance = 1e-3;
+    const ReplayResult G = replay(s, given);
+    EXPECT_EQ(G.method_allowance, 0);
+    EXPECT_FALSE(G.engines.at(0).within_tolerance);
+  }
+  const double order = std::log2(deviation[0] / deviation[1]);
+  EXPECT_NEAR(order, 1.0, 0.3) << deviation[0] << " → " << deviation[1];
 }
 
 }  // namespace

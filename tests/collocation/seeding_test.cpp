@@ -1,0 +1,90 @@
+// The starting points of a solve by seed kind (collocation/seeding.hpp): the simulation seed is
+// exact and warm in attempt 0 and perturbed in later attempts; the perturbed kinds add uniform
+// values in [0, seed_scale] to the positions and normal reactions only, the same for the same
+// random seed and different for another; without a perturbation there is nothing to restart from.
+#include "collocation/seeding.hpp"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/problems.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+TEST(Seeding, SimulationIsExactAndWarmFirstThenPerturbed) {
+  Problem p = testing::pointMassDrop(0.5);
+  p.seed_kind = SeedKind::Simulation;
+  p.random_seed = 7;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding s = makeSeeding(t);
+  EXPECT_TRUE(s.fallback.empty()) << s.fallback;
+  EXPECT_EQ(s.restarts, p.restarts);
+  ASSERT_FALSE(s.simulation.events.empty());
+  const Seed first = s.seed(0);
+  EXPECT_TRUE(first.warm);
+  EXPECT_TRUE(first.x.isApprox(seedFromSimulation(t, nullptr)));
+  const Seed second = s.seed(1);
+  EXPECT_FALSE(second.warm);
+  EXPECT_GT((second.x - first.x).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(Seeding, PerturbedSimulationPerturbsEveryAttemptReproducibly) {
+  Problem p = testing::pointMassDrop(0.5);
+  p.seed_kind = SeedKind::PerturbedSimulation;
+  p.seed_scale = 0.1;
+  p.random_seed = 3;
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd simulation = seedFromSimulation(t, nullptr);
+  const Seeding a = makeSeeding(t);
+  const Seed a0 = a.seed(0);
+  EXPECT_FALSE(a0.warm);
+  EXPECT_GT((a0.x - simulation).cwiseAbs().maxCoeff(), 1e-3) << "attempt 0 is perturbed";
+  EXPECT_EQ(a0.x, makeSeeding(t).seed(0).x) << "the same random seed, the same point";
+  // The mesh (element lengths) is the simulation's: only positions and reactions move, and they
+  // by at most seed_scale before makeConsistent (the gaps and auxiliaries follow them).
+  for (const ElementLayout& L : t.layout()) EXPECT_DOUBLE_EQ(a0.x[L.h], simulation[L.h]);
+  const int nv = p.scene.model.nv();
+  for (const ElementLayout& L : t.layout())
+    for (const auto& pt : L.points)
+      for (int i = 0; i < nv; ++i) {
+        EXPECT_GE(a0.x[pt.q + i] - simulation[pt.q + i], -1e-12);
+        EXPECT_LE(a0.x[pt.q + i] - simulation[pt.q + i], p.seed_scale + 1e-12);
+      }
+  // Another random seed, another point.
+  p.random_seed = 4;
+  const Transcription t4(p, Method::Impulsive);
+  EXPECT_GT((makeSeeding(t4).seed(0).x - a0.x).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(Seeding, NullWithoutScaleHasNothingToRestartFrom) {
+  Problem p = testing::pointMassDrop(0.0);
+  p.seed_kind = SeedKind::Null;
+  p.seed_scale = 0;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding s = makeSeeding(t);
+  EXPECT_EQ(s.restarts, 0);
+  EXPECT_EQ(s.seed(0).x, t.nullSeed());
+  EXPECT_FALSE(s.seed(0).warm);
+  // With a scale, attempt 0 is still the null point and the restarts are perturbed.
+  p.seed_scale = 0.1;
+  const Transcription u(p, Method::Impulsive);
+  const Seeding r = makeSeeding(u);
+  EXPECT_EQ(r.restarts, p.restarts);
+  EXPECT_EQ(r.seed(0).x, u.nullSeed());
+  EXPECT_NE(r.seed(1).x, u.nullSeed());
+}
+
+TEST(Seeding, SeedKindNamesReadBack) {
+  for (SeedKind k : {SeedKind::Null, SeedKind::Perturbed, SeedKind::Solution, SeedKind::Simulation,
+                     SeedKind::PerturbedSimulation})
+    EXPECT_EQ(parseSeedKind(toString(k)), k);
+  try {
+    parseSeedKind("perturbed-simulatoin");
+    ADD_FAILURE() << "accepted a misspelt seed kind";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'perturbed-simulation'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace saltus::collocation
