@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/crba.hpp"
 #include "dynamics/energy.hpp"
 #include "dynamics/jacobian.hpp"
@@ -67,16 +68,15 @@ double impactTime(double g0, double vn, double g_end, double h, double theta, do
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
     : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
   const int nv = scene_.model.nv();
-  const int nc = static_cast<int>(scene_.contacts.size());
-  const int nl = static_cast<int>(scene_.limits.size());
   if (!(options_.dt > 0)) throw std::invalid_argument("time step must be positive");
   if (options_.theta < 0.5 || options_.theta > 1) throw std::invalid_argument("theta must lie in [0.5, 1]");
+  pairs_ = contact::contactPairs(scene_);
   int f_max = 0, lambda_max = 0;
-  for (const Contact& c : scene_.contacts) {
-    f_max += c.directions;
-    lambda_max += c.directions > 0;
+  for (const contact::ContactPair& p : pairs_) {
+    f_max += p.k();
+    lambda_max += p.k() > 0;
   }
-  const int m_max = nc + nl;
+  const int m_max = static_cast<int>(pairs_.size());
   const int nz_max = m_max + f_max + lambda_max;
   q_ = scene_.q0;
   v_ = scene_.v0;
@@ -86,9 +86,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   rhs_.resize(nv);
   tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
   for (const Surface& s : scene_.surfaces) tangents_.push_back(s.tangents());
-  for (const Contact& c : scene_.contacts)  // the cone's directions are constant: once, here
-    directions_.push_back(scene_.surfaces[c.surface].coneDirections(c.directions));
-  J_point_.assign(nc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
+  J_point_.assign(pairs_.size(), Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
   solved_active_.reserve(m_max);
   active_gap_.reserve(m_max);
@@ -102,7 +100,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   z_.resize(nz_max);
   w_.resize(nz_max);
   solver_ = LcpSolver(nz_max);
-  reports_.assign(nc + nl, ContactReport{});
+  reports_.assign(pairs_.size(), ContactReport{});
   measureContacts();
   stats_.max_penetration = 0;
   const double g = scene_.model.gravity.norm();
@@ -127,6 +125,12 @@ void TimeStepper::setInput(const Eigen::VectorXd& tau) {
   tau_ = tau;  // same size: Eigen copies without reallocating
 }
 
+// The material velocity of a pair's world plane at time t (a belt's schedule); zero otherwise.
+Eigen::Vector3d TimeStepper::surfaceVelocity(const contact::ContactPair& pair, double t) const {
+  if (pair.isStop() || pair.body_b >= 0 || pair.surface < 0) return Eigen::Vector3d::Zero();
+  return scene_.surfaces[pair.surface].velocity(t);
+}
+
 double TimeStepper::energy() {
   dynamics::forwardKinematics(scene_.model, data_, q_, v_);
   return dynamics::kineticEnergy(scene_.model, data_) + dynamics::potentialEnergy(scene_.model, data_);
@@ -149,46 +153,43 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
   active_gap_.clear();
   active_e_.clear();
   m_ = f_ = 0;
-  for (int c = 0; c < static_cast<int>(scene_.contacts.size()); ++c) {
-    const Contact& contact = scene_.contacts[c];
-    const Surface& surface = scene_.surfaces[contact.surface];
-    const double gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
-    dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
-    const double vn_free = surface.normal.dot(J_point_[c] * v_free_);
+  for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
+    const contact::ContactPair& pair = pairs_[c];
+    const double gap = contact::gap(pair, data_, q_theta_.data());
+    double vn_free, vn;
+    Eigen::Vector3d normal;
+    if (pair.isStop()) {
+      vn_free = pair.sign * v_free_[pair.coordinate];
+      vn = pair.sign * v_[pair.coordinate];
+    } else {
+      contact::relativeJacobian(model, data_, pair, J_point_[c]);
+      normal = contact::planeFrame(pair, data_).normal;
+      vn_free = normal.dot(J_point_[c] * v_free_);
+      vn = normal.dot(J_point_[c] * v_);
+    }
     const double gap_end = gap + th_h * vn_free;
     if (gap > margin && (!predict || gap_end > margin)) continue;
     if (predict && reports_[c].gap > margin)  // open at the start, closing within the step
       t_close = std::min(t_close, impactTime(reports_[c].gap, reports_[c].vn, gap_end, h, options_.theta,
                                              restitution_threshold_));
-    const double vn = surface.normal.dot(J_point_[c] * v_);
     active_.push_back(c);
     active_gap_.push_back(gap);
-    active_e_.push_back(vn < -restitution_threshold_ ? contact.restitution : 0.0);
-    J_.row(m_++).noalias() = surface.normal.transpose() * J_point_[c];
-  }
-  const int nc = static_cast<int>(scene_.contacts.size());
-  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
-    const LimitStop& stop = scene_.limits[l];
-    const double sign = stop.upper ? -1.0 : 1.0;
-    const double gap = sign * (q_theta_[stop.coordinate] - stop.limit);
-    const double gap_end = gap + th_h * sign * v_free_[stop.coordinate];
-    if (gap > margin && (!predict || gap_end > margin)) continue;
-    if (predict && reports_[nc + l].gap > margin)
-      t_close = std::min(t_close, impactTime(reports_[nc + l].gap, reports_[nc + l].vn, gap_end, h, options_.theta,
-                                             restitution_threshold_));
-    active_.push_back(nc + l);
-    active_gap_.push_back(gap);
-    active_e_.push_back(sign * v_[stop.coordinate] < -restitution_threshold_ ? stop.restitution : 0.0);
-    J_.row(m_).setZero();
-    J_(m_++, stop.coordinate) = sign;
+    active_e_.push_back(vn < -restitution_threshold_ ? pair.restitution : 0.0);
+    if (pair.isStop()) {
+      J_.row(m_).setZero();
+      J_(m_++, pair.coordinate) = pair.sign;
+    } else {
+      J_.row(m_++).noalias() = normal.transpose() * J_point_[c];
+    }
   }
   for (int r = 0; r < m_; ++r) {
     const int c = active_[r];
-    if (c >= nc || scene_.contacts[c].directions == 0) continue;
-    const Contact& contact = scene_.contacts[c];
-    const Eigen::Vector3d v_surface = scene_.surfaces[contact.surface].velocity(t_next);
-    for (int j = 0; j < contact.directions; ++j) {
-      const auto d = directions_[c].col(j);
+    const contact::ContactPair& pair = pairs_[c];
+    if (pair.k() == 0) continue;
+    const Eigen::Vector3d v_surface = surfaceVelocity(pair, t_next);
+    const Eigen::Matrix3d R_B = dynamics::bodyRotation(data_, pair.body_b);
+    for (int j = 0; j < pair.k(); ++j) {
+      const Eigen::Vector3d d = R_B * pair.directions_B.col(j);
       J_.row(m_ + f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
@@ -219,7 +220,6 @@ void TimeStepper::applyImpulses(int rows, Eigen::VectorXd& v) {
 // Assembles and solves the LCP in z = (p_n, β, λ) of a (sub-)step of length h (h = 0: an impact,
 // velocities only); throws on failure. Needs J_ and llt_.
 void TimeStepper::solveLcp(int nz, double h) {
-  const int nc = static_cast<int>(scene_.contacts.size());
   const int m = m_, f = f_;
   auto A = A_.topLeftCorner(nz, nz);
   A.rightCols(nz - m - f).setZero();
@@ -236,14 +236,14 @@ void TimeStepper::solveLcp(int nz, double h) {
   // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
   int row = m + f, col = m;
   for (int r = 0; r < m; ++r) {
-    const int c = active_[r];
-    if (c >= nc || scene_.contacts[c].directions == 0) continue;
-    const int k = scene_.contacts[c].directions;
+    const contact::ContactPair& pair = pairs_[active_[r]];
+    const int k = pair.k();
+    if (k == 0) continue;
     for (int j = 0; j < k; ++j) {
       A(col + j, row) = 1.0;             // β rows: + λ
       A(row, col + j) = -1.0;            // λ row: − Σ β
     }
-    A(row, r) = scene_.contacts[c].friction;
+    A(row, r) = pair.friction;
     b_[row] = 0;
     ++row;
     col += k;
@@ -279,8 +279,7 @@ void TimeStepper::solveLcp(int nz, double h) {
 
 std::vector<std::string> TimeStepper::activeNames() const {
   std::vector<std::string> names;
-  const int nc = static_cast<int>(scene_.contacts.size());
-  for (int c : active_) names.push_back(c < nc ? scene_.contacts[c].name : scene_.limits[c - nc].name);
+  for (int c : active_) names.push_back(pairs_[c].name);
   return names;
 }
 
@@ -289,24 +288,20 @@ std::vector<std::string> TimeStepper::activeNames() const {
 // Velocities are left as they are.
 void TimeStepper::project() {
   const dynamics::Model<double>& model = scene_.model;
-  const int nc = static_cast<int>(scene_.contacts.size());
   m_ = 0;
   active_.clear();
-  for (int c = 0; c < nc; ++c) {
-    const Contact& contact = scene_.contacts[c];
+  for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
     if (reports_[c].gap >= -options_.penetration_tolerance) continue;
-    dynamics::pointJacobian(model, data_, contact.body, contact.p_B, J_point_[c]);
-    J_.row(m_).noalias() = scene_.surfaces[contact.surface].normal.transpose() * J_point_[c];
+    const contact::ContactPair& pair = pairs_[c];
+    if (pair.isStop()) {
+      J_.row(m_).setZero();
+      J_(m_, pair.coordinate) = pair.sign;
+    } else {
+      contact::relativeJacobian(model, data_, pair, J_point_[c]);
+      J_.row(m_).noalias() = contact::planeFrame(pair, data_).normal.transpose() * J_point_[c];
+    }
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
-  }
-  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
-    if (reports_[nc + l].gap >= -options_.penetration_tolerance) continue;
-    const LimitStop& stop = scene_.limits[l];
-    J_.row(m_).setZero();
-    J_(m_, stop.coordinate) = stop.upper ? -1.0 : 1.0;
-    b_[m_++] = reports_[nc + l].gap;
-    active_.push_back(nc + l);
   }
   if (m_ == 0) return;
   solved_active_.clear();  // z_ is about to hold the projection's solution
@@ -328,27 +323,21 @@ void TimeStepper::project() {
 // any gap is below −penetration_tolerance.
 bool TimeStepper::measureContacts() {
   const dynamics::Model<double>& model = scene_.model;
-  const int nc = static_cast<int>(scene_.contacts.size());
   dynamics::forwardVelocities(model, data_, q_, v_);  // poses and velocities: no J̇v needed
   bool penetrating = false;
-  for (int c = 0; c < nc; ++c) {
-    const Contact& contact = scene_.contacts[c];
-    const Surface& surface = scene_.surfaces[contact.surface];
+  for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
+    const contact::ContactPair& pair = pairs_[c];
     ContactReport& r = reports_[c];
-    r.gap = surface.gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
-    const Eigen::Vector3d v_rel = dynamics::pointVelocity(data_, contact.body, contact.p_B) - surface.velocity(t_);
-    r.vn = surface.normal.dot(v_rel);
-    r.vt1 = tangents_[contact.surface].col(0).dot(v_rel);
-    r.vt2 = tangents_[contact.surface].col(1).dot(v_rel);
-    penetrating |= r.gap < -options_.penetration_tolerance;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
-  }
-  for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
-    const LimitStop& stop = scene_.limits[l];
-    const double sign = stop.upper ? -1.0 : 1.0;
-    ContactReport& r = reports_[nc + l];
-    r.gap = sign * (q_[stop.coordinate] - stop.limit);
-    r.vn = sign * v_[stop.coordinate];
+    r.gap = contact::gap(pair, data_, q_.data());
+    if (pair.isStop()) {
+      r.vn = contact::normalVelocity(pair, data_, v_.data(), Eigen::Vector3d::Zero().eval());
+    } else {
+      const contact::PlaneFrame<double> f = contact::planeFrame(pair, data_);
+      const Eigen::Vector3d v_rel = contact::relativeVelocity(pair, data_, surfaceVelocity(pair, t_));
+      r.vn = f.normal.dot(v_rel);
+      r.vt1 = f.tangents.col(0).dot(v_rel);
+      r.vt2 = f.tangents.col(1).dot(v_rel);
+    }
     penetrating |= r.gap < -options_.penetration_tolerance;
     stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
   }
@@ -379,12 +368,11 @@ void TimeStepper::linearise(double h) {
 // Completes a (sub-)step of length h linearised by linearise(h), with the rows of buildRows: the
 // contact LCP, v⁺ and q⁺ = q_θ + θ h v⁺ into (q_, v_); the impulses are added to the reports.
 void TimeStepper::advance(double h) {
-  const int nc = static_cast<int>(scene_.contacts.size());
   Eigen::VectorXd& v_next = rhs_;  // reuse storage: v⁺
   v_next = v_free_;
   if (m_ > 0) {
     int n_lambda = 0;
-    for (int r = 0; r < m_; ++r) n_lambda += active_[r] < nc && scene_.contacts[active_[r]].directions > 0;
+    for (int r = 0; r < m_; ++r) n_lambda += pairs_[active_[r]].k() > 0;
     solveLcp(m_ + f_ + n_lambda, h);
     applyImpulses(m_ + f_, v_next);  // v⁺ = v* + M⁻¹ (Nᵀ p_n + Dᵀ β)
     // Impulses per contact, tangential ones in the surface basis.
@@ -393,12 +381,12 @@ void TimeStepper::advance(double h) {
       const int c = active_[r];
       reports_[c].active = true;
       reports_[c].pn += z_[r];
-      if (c >= nc) continue;
-      const Contact& contact = scene_.contacts[c];
-      Eigen::Vector3d pt = Eigen::Vector3d::Zero();
-      for (int j = 0; j < contact.directions; ++j) pt += z_[fr++] * directions_[c].col(j);
-      reports_[c].pt1 += pt.dot(tangents_[contact.surface].col(0));
-      reports_[c].pt2 += pt.dot(tangents_[contact.surface].col(1));
+      const contact::ContactPair& pair = pairs_[c];
+      if (pair.k() == 0) continue;
+      Eigen::Vector3d pt_B = Eigen::Vector3d::Zero();  // in the plane's body coordinates
+      for (int j = 0; j < pair.k(); ++j) pt_B += z_[fr++] * pair.directions_B.col(j);
+      reports_[c].pt1 += pt_B.dot(pair.tangents_B.col(0));
+      reports_[c].pt2 += pt_B.dot(pair.tangents_B.col(1));
     }
   }
   v_ = v_next;
@@ -408,7 +396,6 @@ void TimeStepper::advance(double h) {
 void TimeStepper::step() {
   const dynamics::Model<double>& model = scene_.model;
   const double h = options_.dt;
-  const int nc = static_cast<int>(scene_.contacts.size());
   for (ContactReport& r : reports_) {
     r.active = false;
     r.pn = r.pt1 = r.pt2 = 0;
@@ -444,14 +431,7 @@ void TimeStepper::step() {
   if (penetrating) {
     project();
     dynamics::forwardKinematics(model, data_, q_);
-    for (int c = 0; c < nc; ++c) {
-      const Contact& contact = scene_.contacts[c];
-      reports_[c].gap = scene_.surfaces[contact.surface].gap(dynamics::pointPosition(data_, contact.body, contact.p_B));
-    }
-    for (int l = 0; l < static_cast<int>(scene_.limits.size()); ++l) {
-      const LimitStop& stop = scene_.limits[l];
-      reports_[nc + l].gap = (stop.upper ? -1.0 : 1.0) * (q_[stop.coordinate] - stop.limit);
-    }
+    for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) reports_[c].gap = contact::gap(pairs_[c], data_, q_.data());
   }
 }
 

@@ -65,6 +65,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "contact/pair.hpp"
 #include "dynamics/data.hpp"
 #include "timestepper/lcp.hpp"
 #include "scene/scene.hpp"
@@ -163,6 +164,8 @@ class TimeStepper {
   bool measureContacts();
   std::vector<std::string> activeNames() const;
 
+  Eigen::Vector3d surfaceVelocity(const contact::ContactPair& pair, double t) const;
+
   Scene scene_;
   StepperOptions options_;
   dynamics::Data<double> data_;
@@ -170,8 +173,8 @@ class TimeStepper {
   Eigen::VectorXd q_, v_, q_theta_, v_theta_, v_free_, rhs_, tau_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   std::vector<Eigen::Matrix<double, 3, 2>> tangents_;
-  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> directions_;  // per contact: its k cone directions
-  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per contact, 3 × nv
+  std::vector<contact::ContactPair> pairs_;  // the contact layer's pairs: scene contacts, then limit stops
+  std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per pair: its relative Jacobian, 3 × nv
   // Active rows: normal rows first (contacts then limits), then the friction rows.
   std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
   std::vector<double> active_gap_, active_e_;

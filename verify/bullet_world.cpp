@@ -24,6 +24,7 @@
 #include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
 #include <BulletDynamics/MLCPSolvers/btLemkeSolver.h>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/energy.hpp"
 #include "dynamics/kinematics.hpp"
 
@@ -74,7 +75,7 @@ BulletWorldOptions BulletWorldOptions::bulletDefaults(double dt, BulletSolver so
 }
 
 BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
-    : scene_(scene), options_(options), data_(scene.model) {
+    : scene_(scene), pairs_(contact::contactPairs(scene)), options_(options), data_(scene.model) {
   if (!(options_.dt > 0) || !std::isfinite(options_.dt)) throw std::invalid_argument("BulletWorld: dt must be positive");
   if (!(options_.contact_radius > 0)) throw std::invalid_argument("BulletWorld: contact_radius must be positive");
   const dynamics::Model<double>& model = scene_.model;
@@ -335,25 +336,24 @@ void BulletWorld::measure() {
   const dynamics::Model<double>& model = scene_.model;
   dynamics::forwardKinematics(model, data_, q_, v_);
   for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
-    const scene::Contact& contact = scene_.contacts[c];
-    const scene::Surface& surface = scene_.surfaces[contact.surface];
-    const Eigen::Matrix<double, 3, 2> T = surface.tangents();
+    const contact::ContactPair& pair = pairs_[c];
+    const contact::PlaneFrame<double> f = contact::planeFrame(pair, data_);
+    const Eigen::Vector3d surface_velocity =
+        pair.body_b < 0 ? scene_.surfaces[pair.surface].velocity(t_) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d vrel = contact::relativeVelocity(pair, data_, surface_velocity);
     BulletContactReport& r = reports_[c];
-    const Eigen::Vector3d x = dynamics::pointPosition(data_, contact.body, contact.p_B);
-    const Eigen::Vector3d vrel = dynamics::pointVelocity(data_, contact.body, contact.p_B) - surface.velocity(t_);
-    r.gap = surface.gap(x);
-    r.vn = surface.normal.dot(vrel);
-    r.vt1 = T.col(0).dot(vrel);
-    r.vt2 = T.col(1).dot(vrel);
+    r.gap = contact::gap(pair, data_, q_.data());
+    r.vn = f.normal.dot(vrel);
+    r.vt1 = f.tangents.col(0).dot(vrel);
+    r.vt2 = f.tangents.col(1).dot(vrel);
     r.active = false;
     r.pn = r.pt1 = r.pt2 = 0;
     stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
   }
-  for (int k : limit_coordinate_)
-    for (const scene::LimitStop& stop : scene_.limits)
-      if (stop.coordinate == k)
-        stats_.max_penetration =
-            std::max(stats_.max_penetration, stop.upper ? q_[k] - stop.limit : stop.limit - q_[k]);
+  // The stops Bullet enforces (limit_coordinate_): their penetration.
+  for (std::size_t l = scene_.contacts.size(); l < pairs_.size(); ++l)
+    if (std::find(limit_coordinate_.begin(), limit_coordinate_.end(), pairs_[l].coordinate) != limit_coordinate_.end())
+      stats_.max_penetration = std::max(stats_.max_penetration, -contact::gap(pairs_[l], data_, q_.data()));
 
   const int nm = dispatcher_->getNumManifolds();
   for (int m = 0; m < nm; ++m) {
@@ -368,8 +368,7 @@ void BulletWorld::measure() {
         const int child = is_a ? cp.m_index0 : cp.m_index1;  // the sphere within the link's compound
         for (std::size_t c = 0; c < contact_child_.size(); ++c) {
           if (contact_child_[c].first != static_cast<int>(ci) || contact_child_[c].second != child) continue;
-          const scene::Surface& surface = scene_.surfaces[scene_.contacts[c].surface];
-          const Eigen::Matrix<double, 3, 2> T = surface.tangents();
+          const contact::PlaneFrame<double> f = contact::planeFrame(pairs_[c], data_);
           BulletContactReport& r = reports_[c];
           r.active = true;
           // The normal impulse acts on A along m_normalWorldOnB and on B against it; the friction
@@ -379,9 +378,9 @@ void BulletWorld::measure() {
               sign * (cp.m_appliedImpulse * toEigen(cp.m_normalWorldOnB) +
                       cp.m_appliedImpulseLateral1 * toEigen(cp.m_lateralFrictionDir1) +
                       cp.m_appliedImpulseLateral2 * toEigen(cp.m_lateralFrictionDir2));
-          r.pn += surface.normal.dot(impulse);
-          r.pt1 += T.col(0).dot(impulse);
-          r.pt2 += T.col(1).dot(impulse);
+          r.pn += f.normal.dot(impulse);
+          r.pt1 += f.tangents.col(0).dot(impulse);
+          r.pt2 += f.tangents.col(1).dot(impulse);
         }
       }
     }

@@ -61,6 +61,7 @@
 
 #include <Eigen/Core>
 
+#include "contact/pair.hpp"
 #include "dynamics/data.hpp"
 #include "scene/scene.hpp"
 #include "verify/bullet_multibody.hpp"
@@ -153,6 +154,7 @@ class BulletWorld {
   void measure();
 
   scene::Scene scene_;
+  std::vector<contact::ContactPair> pairs_;  // the contact layer's: scene contacts, then limit stops
   BulletWorldOptions options_;
   dynamics::Data<double> data_;
   double t_ = 0;

@@ -5,7 +5,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "collocation/functions.hpp"
+#include "contact/kinematics.hpp"
 #include "dynamics/energy.hpp"
 #include "dynamics/kinematics.hpp"
 
@@ -158,26 +158,27 @@ class BulletEngine final : public Engine {
   BulletWorld world_;
 };
 
-// Gaps and normal velocities of the scene contacts at (q, v), with the collocation's contact
-// points (the same geometry as the scene's contacts).
+// Gaps and gap rates (normal velocities without a belt's motion) of the scene contacts at (q, v),
+// from the contact layer.
 class ContactKinematics {
  public:
   ContactKinematics(const collocation::Transcription& t)
-      : t_(t), model_(t.problem().scene.model), data_(model_), nc_(static_cast<int>(t.problem().scene.contacts.size())) {}
+      : model_(t.problem().scene.model), data_(model_), pairs_(contact::contactPairs(t.problem().scene)),
+        nc_(static_cast<int>(t.problem().scene.contacts.size())) {}
   int contacts() const { return nc_; }
   void set(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
     dynamics::forwardKinematics(model_, data_, q, v);
     q_ = q;
     v_ = v;
   }
-  double gap(int c) const { return t_.contacts()[c].gap(data_, q_.data()); }
-  double vn(int c) const { return collocation::normalVelocity(t_.contacts()[c], data_, v_.data()); }
+  double gap(int c) const { return contact::gap(pairs_[c], data_, q_.data()); }
+  double vn(int c) const { return contact::normalVelocity(pairs_[c], data_, v_.data(), Eigen::Vector3d::Zero().eval()); }
   double energy() const { return dynamics::kineticEnergy(model_, data_) + dynamics::potentialEnergy(model_, data_); }
 
  private:
-  const collocation::Transcription& t_;
   const dynamics::Model<double>& model_;
   dynamics::Data<double> data_;
+  std::vector<contact::ContactPair> pairs_;
   int nc_;
   Eigen::VectorXd q_, v_;
 };

@@ -1,0 +1,136 @@
+// Contact kinematics of a pair (contact/pair.hpp), templated on the scalar like dynamics/ so the
+// collocation's local functions differentiate them by AD: the gap φ, the contact frame in world
+// coordinates, the relative velocity of the contact point (including a world surface's
+// prescribed motion) and the relative Jacobian J = J_A − J_B, with which the reaction enters the
+// equations of motion as Jᵀ f (RBDA §11.2; paper §II.C and eq. 6).
+//
+// For a point on a plane fixed in body B the contact point is x = the point of A; its relative
+// velocity is that of A's point minus that of B's material point at x (and minus the surface's
+// velocity for a world plane), and J maps q̇ to it. For a joint stop the "frame" is the coordinate
+// itself: gap sign·(q_i − limit), normal velocity sign·q̇_i, normal row sign·e_iᵀ.
+// The material velocity of a world plane (a belt's schedule) is the consumer's to give: the
+// time-stepper reads it at a time, the collocation at a mesh element.
+//
+// Every function needs dynamics::forwardKinematics at q (and at (q, v) for velocities) in `data`.
+#pragma once
+
+#include "contact/pair.hpp"
+#include "dynamics/jacobian.hpp"
+#include "dynamics/kinematics.hpp"
+
+namespace saltus::contact {
+
+template <class S> using Vec3 = dynamics::Vec3<S>;
+template <class S> using Tangents = Eigen::Matrix<S, 3, 2>;
+
+// The plane of a point-on-plane pair in world coordinates.
+template <class S>
+struct PlaneFrame {
+  Vec3<S> point;        // a point of the plane
+  Vec3<S> normal;       // unit normal
+  Tangents<S> tangents;  // (t1, t2), t2 = n × t1
+};
+
+template <class S>
+PlaneFrame<S> planeFrame(const ContactPair& pair, const dynamics::Data<S>& data) {
+  const dynamics::Mat3<S> R = dynamics::bodyRotation(data, pair.body_b);
+  PlaneFrame<S> f;
+  f.point = dynamics::pointPosition(data, pair.body_b, Vec3<S>(pair.plane_point_B.cast<S>()));
+  f.normal = R * pair.normal_B.cast<S>();
+  f.tangents = R * pair.tangents_B.cast<S>();
+  return f;
+}
+
+// World position of the contact point (the point of A); a stop has none (zero).
+template <class S>
+Vec3<S> contactPoint(const ContactPair& pair, const dynamics::Data<S>& data) {
+  if (pair.isStop()) return Vec3<S>::Zero();
+  return dynamics::pointPosition(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()));
+}
+
+// The gap φ(q): n·(x − plane point) for a point on a plane, sign·(q_i − limit) for a stop.
+template <class S>
+S gap(const ContactPair& pair, const dynamics::Data<S>& data, const S* q) {
+  if (pair.isStop()) return S(pair.sign) * (q[pair.coordinate] - S(pair.limit));
+  const PlaneFrame<S> f = planeFrame(pair, data);
+  return f.normal.dot(contactPoint(pair, data) - f.point);
+}
+
+// B's material point at the contact point, in B's coordinates (the contact point itself for the world).
+template <class S>
+Vec3<S> pointOnB(const ContactPair& pair, const dynamics::Data<S>& data) {
+  const Vec3<S> x = contactPoint(pair, data);
+  if (pair.body_b < 0) return x;
+  return dynamics::bodyRotation(data, pair.body_b).transpose() * (x - dynamics::bodyPosition(data, pair.body_b));
+}
+
+// Relative velocity of the contact point of a point on a plane, in world coordinates:
+// v_A(x) − v_B(x) − surface_velocity (the world plane's material velocity, e.g. a belt's; zero
+// for a plane on a body). Not for a stop (see normalVelocity).
+template <class S>
+Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const Vec3<S>& surface_velocity) {
+  Vec3<S> w = dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()));
+  if (pair.body_b >= 0) w -= dynamics::pointVelocity(data, pair.body_b, pointOnB(pair, data));
+  return w - surface_velocity;
+}
+
+// Normal component of the relative velocity: n·relativeVelocity, sign·q̇_i for a stop.
+template <class S>
+S normalVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const S* v, const Vec3<S>& surface_velocity) {
+  if (pair.isStop()) return S(pair.sign) * v[pair.coordinate];
+  return planeFrame(pair, data).normal.dot(relativeVelocity(pair, data, surface_velocity));
+}
+
+// The friction directions of the cone in world coordinates (3 × k).
+template <class S>
+Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, const dynamics::Data<S>& data) {
+  return dynamics::bodyRotation(data, pair.body_b) * pair.directions_B.cast<S>();
+}
+
+// The relative Jacobian J_A(x) − J_B(x) (3 × nv, world coordinates): J q̇ is the relative velocity
+// without the surface's motion. Not for a stop (see normalRow).
+template <class S>
+void relativeJacobian(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
+                      dynamics::MatOut<dynamics::Mat3X<S>> J) {
+  dynamics::pointJacobian(model, data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()), J);
+  if (pair.body_b < 0) return;
+  // − J_B at x, column by column as in dynamics::pointJacobian (no temporary).
+  const Vec3<S> x = contactPoint(pair, data);
+  for (int j = pair.body_b; j >= 0; j = model.parent[j])
+    for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
+      const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
+      J.col(k) -= s.v + s.w.cross(x);
+    }
+}
+
+// The normal row of the pair's constraint (1 × nv): nᵀ J for a point on a plane, sign·e_iᵀ for a stop.
+template <class S>
+void normalRow(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
+               dynamics::MatOut<Eigen::Matrix<S, 1, Eigen::Dynamic>> row) {
+  row.setZero();
+  if (pair.isStop()) {
+    row[pair.coordinate] = S(pair.sign);
+    return;
+  }
+  dynamics::Mat3X<S> J(3, model.nv());
+  relativeJacobian(model, data, pair, J);
+  row.noalias() = planeFrame(pair, data).normal.transpose() * J;
+}
+
+// The generalised force of a reaction with normal component r_n and tangential force f_t (world
+// coordinates, in the plane; zero for a stop): tau += Jᵀ (n r_n + f_t) for a point on a plane
+// (acting on A, its opposite on B), tau_i += sign·r_n for a stop.
+template <class S>
+void addReaction(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair, const S& r_n,
+                 const Vec3<S>& f_t, S* tau) {
+  if (pair.isStop()) {
+    tau[pair.coordinate] += S(pair.sign) * r_n;
+    return;
+  }
+  dynamics::Mat3X<S> J(3, model.nv());
+  relativeJacobian(model, data, pair, J);
+  const Vec3<S> f = planeFrame(pair, data).normal * r_n + f_t;
+  for (int i = 0; i < model.nv(); ++i) tau[i] += J.col(i).dot(f);
+}
+
+}  // namespace saltus::contact

@@ -1,0 +1,39 @@
+#include "contact/pair.hpp"
+
+namespace saltus::contact {
+
+std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
+  std::vector<ContactPair> pairs;
+  pairs.reserve(scene.contacts.size() + scene.limits.size());
+  for (const scene::Contact& c : scene.contacts) {
+    const scene::Surface& surface = scene.surfaces.at(static_cast<std::size_t>(c.surface));
+    ContactPair p;
+    p.name = c.name;
+    p.kind = PairKind::PointOnPlane;
+    p.body_a = c.body;
+    p.point_A = c.p_B;
+    p.body_b = -1;
+    p.plane_point_B = surface.point;
+    p.normal_B = surface.normal;
+    p.tangents_B = surface.tangents();
+    p.directions_B = c.friction > 0 ? surface.coneDirections(c.directions) : Eigen::Matrix3Xd(3, 0);
+    p.surface = c.surface;
+    p.restitution = c.restitution;
+    p.friction = c.friction;
+    pairs.push_back(std::move(p));
+  }
+  for (const scene::LimitStop& l : scene.limits) {
+    ContactPair p;
+    p.name = l.name;
+    p.kind = PairKind::JointStop;
+    p.coordinate = l.coordinate;
+    p.sign = l.upper ? -1.0 : 1.0;
+    p.limit = l.limit;
+    p.directions_B = Eigen::Matrix3Xd(3, 0);
+    p.restitution = l.restitution;
+    pairs.push_back(std::move(p));
+  }
+  return pairs;
+}
+
+}  // namespace saltus::contact

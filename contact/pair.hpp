@@ -1,0 +1,56 @@
+// The contact layer's unit: every unilateral constraint of a scene as one ContactPair, whatever
+// its kind, in one order (the scene's contacts, then its joint-limit stops). The kinematics of a
+// pair (gap, contact frame, relative Jacobian and velocity) are in contact/kinematics.hpp; the
+// time-stepper, the collocation, the replays and the renderer read them from there and nowhere
+// else.
+//
+//   point on a plane  a point fixed on body A against a plane fixed in body B, or in the world
+//                     (B = −1), where the plane's material may move tangentially by the
+//                     surface's velocity schedule (a conveyor belt); normal along the plane's
+//                     normal, Coulomb friction with a polyhedral cone of k directions in the
+//                     plane (paper eq. 11), Newton restitution
+//   joint stop        a joint-limit hard stop on coordinate i: gap = sign · (q_i − limit), sign
+//                     +1 at a lower limit, −1 at an upper one; frictionless
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace saltus::contact {
+
+enum class PairKind { PointOnPlane, JointStop };
+
+struct ContactPair {
+  std::string name;
+  PairKind kind = PairKind::PointOnPlane;
+
+  // PointOnPlane.
+  int body_a = -1;                                     // the body the point moves with
+  Eigen::Vector3d point_A = Eigen::Vector3d::Zero();  // the point in A's coordinates
+  int body_b = -1;                                     // the body the plane is fixed in; −1: the world
+  Eigen::Vector3d plane_point_B = Eigen::Vector3d::Zero();  // a point of the plane, in B's coordinates
+  Eigen::Vector3d normal_B = Eigen::Vector3d::UnitZ();     // unit normal, in B's coordinates
+  Eigen::Matrix<double, 3, 2> tangents_B = Eigen::Matrix<double, 3, 2>::Identity();  // (t1, t2) = n × t1
+  Eigen::Matrix3Xd directions_B;  // 3 × k unit friction directions in the plane (B's coordinates)
+  int surface = -1;  // the scene surface the plane is (its velocity schedule), −1: none
+
+  // JointStop.
+  int coordinate = -1;
+  double sign = 1;  // +1 lower limit, −1 upper limit
+  double limit = 0;
+
+  double restitution = 0;
+  double friction = 0;  // μ; 0 for a stop
+
+  bool isStop() const { return kind == PairKind::JointStop; }
+  int k() const { return static_cast<int>(directions_B.cols()); }  // friction directions
+};
+
+// The pairs of a scene: its contacts (in order), then its joint-limit stops (in order). A
+// contact's plane is its surface (fixed in the world): normal and point as given, tangents and
+// friction directions from Surface::tangents and Surface::coneDirections.
+std::vector<ContactPair> contactPairs(const scene::Scene& scene);
+
+}  // namespace saltus::contact
