@@ -5,6 +5,7 @@
 // DIR/summary.json; they appear only when the solve ran (a failed or infeasible solve still
 // writes them, with Ipopt's status, and exits 1).
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -35,6 +36,7 @@ struct OptimizeOptions {
   std::string seed_from;
   std::optional<double> seed_scale;
   std::optional<int> restarts;
+  std::optional<double> tighten_within;
   std::vector<std::string> set, ipopt;
   std::string hessian;
   int print_level = 0;
@@ -103,6 +105,11 @@ int optimize(const OptimizeOptions& opt) {
   so.print_level = opt.print_level;
   so.ipopt = ipopt;
   so.restarts = seeding.restarts;
+  if (opt.tighten_within) {
+    if (!(*opt.tighten_within >= 0) || !std::isfinite(*opt.tighten_within))
+      throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
+    so.tighten_within = *opt.tighten_within;
+  }
   const SolveReport r = solve(t, seeding.seed, so);
 
   fs::create_directories(opt.out);
@@ -128,6 +135,7 @@ int optimize(const OptimizeOptions& opt) {
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
+  if (std::isfinite(so.tighten_within)) j["tighten_within"] = so.tighten_within;
   j["feasible"] = r.feasible;
   j["objective"] = r.objective;
   j["largest_product"] = r.largest_product;
@@ -216,6 +224,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
   app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
   app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");
+  app->add_option("--tighten-within", opt->tighten_within,
+                  "tighten (every product bounded by 0.9 x the tolerance) a solve ending infeasible with products "
+                  "within this many times the tolerance (default: always; 0: never)");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
   app->add_option("--hessian", opt->hessian, "exact (default) or limited-memory");

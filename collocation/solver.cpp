@@ -77,7 +77,7 @@ void setOption(Ipopt::IpoptApplication& app, const std::string& name, const std:
 
 StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
                      const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
-                     SolveReport& report) {
+                     SolveReport& report, const char* name = nullptr) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
@@ -122,7 +122,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
-  r.name = stage == Stage::Feasibility ? "feasibility" : "task";
+  r.name = name ? name : stage == Stage::Feasibility ? "feasibility" : "task";
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   r.status_code = status;
   r.status = ipoptStatusName(status);
@@ -156,6 +156,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task = has_task || !t.problem().hints.empty();
+  bool tightened = false;
   if (task && first.succeeded) {
     const Eigen::VectorXd x1 = x;
     // The multipliers help only near a solution: the feasibility stage's are those of a point
@@ -171,6 +172,20 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
       report.note = "the task stage ended " + second.status + "; kept the feasibility stage's solution";
     }
   }
+  if (!task && first.succeeded && !first_feasible && first.largest_product <= options.tighten_within * tolerance) {
+    // A local minimum of the penalty with products above the tolerance (often just above: on a
+    // resting mass, a staircase of small impulses at later boundaries). The bounded products of
+    // the task stage, from this point, pull them under it or fail; a failure keeps this point.
+    const Eigen::VectorXd x1 = x;
+    report.stages.push_back(runStage(t, Stage::Task, x1, {}, options, x, multipliers, report, "tighten"));
+    const StageReport& second = report.stages.back();
+    if (second.succeeded && second.largest_product <= tolerance) {
+      tightened = true;
+    } else {
+      x = x1;
+      report.note = "the tightening stage ended " + second.status + "; kept the feasibility stage's point";
+    }
+  }
   report.x = x;
   report.largest_product = t.largestProduct(x, &report.largest_product_at);
   report.objective = report.note.empty() ? report.stages.back().objective : report.stages.front().objective;
@@ -182,6 +197,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     report.iterations += s.iterations;
   }
   if (!report.note.empty()) all = first.succeeded;
+  if (tightened) all = true;  // the feasibility stage ended succeeded, the tightening feasible
   report.feasible = all && (!task || report.stages.size() == 2) && report.largest_product <= tolerance;
   report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;

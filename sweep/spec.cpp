@@ -57,7 +57,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hessian", "ipopt"}, true);
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "hessian", "ipopt"}, true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
   if (n["P"]) {
@@ -68,6 +68,11 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], "options.seed_scale");
     if (*o.seed_scale < 0) r.fail(n["seed_scale"], "options.seed_scale", "expected a non-negative number");
+  }
+  if (n["tighten_within"]) {
+    o.tighten_within = r.number(n["tighten_within"], "options.tighten_within");
+    if (!(*o.tighten_within >= 0))
+      r.fail(n["tighten_within"], "options.tighten_within", "expected a non-negative ratio (0: never tighten)");
   }
   if (n["seed"]) {
     o.seed_kind = r.text(n["seed"], "options.seed");
@@ -222,6 +227,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
+  if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});
   a.insert(a.end(), {"--out", out});

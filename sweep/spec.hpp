@@ -26,6 +26,7 @@ namespace saltus::sweep {
 struct SolveSettings {
   std::optional<int> N, P, restarts;
   std::optional<double> seed_scale;
+  std::optional<double> tighten_within;  // --tighten-within
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
   std::string hessian;  // "", "exact" or "limited-memory"
   std::map<std::string, std::string> ipopt;  // --ipopt name=value
