@@ -87,20 +87,31 @@ Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, 
   return dynamics::bodyRotation(data, pair.body_b) * pair.directions_B.cast<S>();
 }
 
+// Calls fn(k, c) with the column c of the relative Jacobian J_A(x) − J_B(x) (world coordinates)
+// for every coordinate k on the bodies' paths to the root, as dynamics::pointJacobian builds its
+// columns: +(s_k × x) on A's path, −(s_k × x) on B's, so a common ancestor's two calls cancel.
+template <class S, class F>
+void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
+                           F&& fn) {
+  const Vec3<S> x = contactPoint(pair, data);
+  auto path = [&](int body, double sign) {
+    for (int j = body; j >= 0; j = model.parent[j])
+      for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
+        const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
+        fn(k, Vec3<S>(S(sign) * (s.v + s.w.cross(x))));
+      }
+  };
+  path(pair.body_a, 1.0);
+  path(pair.body_b, -1.0);
+}
+
 // The relative Jacobian J_A(x) − J_B(x) (3 × nv, world coordinates): J q̇ is the relative velocity
 // without the surface's motion. Not for a stop (see normalRow).
 template <class S>
 void relativeJacobian(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
                       dynamics::MatOut<dynamics::Mat3X<S>> J) {
-  dynamics::pointJacobian(model, data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()), J);
-  if (pair.body_b < 0) return;
-  // − J_B at x, column by column as in dynamics::pointJacobian (no temporary).
-  const Vec3<S> x = contactPoint(pair, data);
-  for (int j = pair.body_b; j >= 0; j = model.parent[j])
-    for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
-      const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
-      J.col(k) -= s.v + s.w.cross(x);
-    }
+  J.setZero();
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { J.col(k) += c; });
 }
 
 // The normal row of the pair's constraint (1 × nv): nᵀ J for a point on a plane, sign·e_iᵀ for a stop.
@@ -112,9 +123,8 @@ void normalRow(const dynamics::Model<S>& model, const dynamics::Data<S>& data, c
     row[pair.coordinate] = S(pair.sign);
     return;
   }
-  dynamics::Mat3X<S> J(3, model.nv());
-  relativeJacobian(model, data, pair, J);
-  row.noalias() = planeFrame(pair, data).normal.transpose() * J;
+  const Vec3<S> n = planeFrame(pair, data).normal;
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { row[k] += n.dot(c); });
 }
 
 // The generalised force of a reaction with normal component r_n and tangential force f_t (world
@@ -127,10 +137,8 @@ void addReaction(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
     tau[pair.coordinate] += S(pair.sign) * r_n;
     return;
   }
-  dynamics::Mat3X<S> J(3, model.nv());
-  relativeJacobian(model, data, pair, J);
   const Vec3<S> f = planeFrame(pair, data).normal * r_n + f_t;
-  for (int i = 0; i < model.nv(); ++i) tau[i] += J.col(i).dot(f);
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { tau[k] += c.dot(f); });
 }
 
 }  // namespace saltus::contact
