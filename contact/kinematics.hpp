@@ -33,12 +33,25 @@ struct PlaneFrame {
 
 template <class S>
 PlaneFrame<S> planeFrame(const ContactPair& pair, const dynamics::Data<S>& data) {
-  const dynamics::Mat3<S> R = dynamics::bodyRotation(data, pair.body_b);
   PlaneFrame<S> f;
+  if (pair.body_b < 0) {  // a world plane: as given
+    f.point = pair.plane_point_B.cast<S>();
+    f.normal = pair.normal_B.cast<S>();
+    f.tangents = pair.tangents_B.cast<S>();
+    return f;
+  }
+  const dynamics::Mat3<S> R = dynamics::bodyRotation(data, pair.body_b);
   f.point = dynamics::pointPosition(data, pair.body_b, Vec3<S>(pair.plane_point_B.cast<S>()));
   f.normal = R * pair.normal_B.cast<S>();
   f.tangents = R * pair.tangents_B.cast<S>();
   return f;
+}
+
+// The plane's unit normal in world coordinates (planeFrame's, without the rest).
+template <class S>
+Vec3<S> planeNormal(const ContactPair& pair, const dynamics::Data<S>& data) {
+  if (pair.body_b < 0) return pair.normal_B.cast<S>();
+  return dynamics::bodyRotation(data, pair.body_b) * pair.normal_B.cast<S>();
 }
 
 // World position of the contact point (the point of A); a stop has none (zero).
@@ -52,8 +65,10 @@ Vec3<S> contactPoint(const ContactPair& pair, const dynamics::Data<S>& data) {
 template <class S>
 S gap(const ContactPair& pair, const dynamics::Data<S>& data, const S* q) {
   if (pair.isStop()) return S(pair.sign) * (q[pair.coordinate] - S(pair.limit));
+  const Vec3<S> x = contactPoint(pair, data);
+  if (pair.body_b < 0) return pair.normal_B.cast<S>().dot(x - pair.plane_point_B.cast<S>());
   const PlaneFrame<S> f = planeFrame(pair, data);
-  return f.normal.dot(contactPoint(pair, data) - f.point);
+  return f.normal.dot(x - f.point);
 }
 
 // B's material point at the contact point, in B's coordinates (the contact point itself for the world).
@@ -78,7 +93,7 @@ Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data,
 template <class S>
 S normalVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const S* v, const Vec3<S>& surface_velocity) {
   if (pair.isStop()) return S(pair.sign) * v[pair.coordinate];
-  return planeFrame(pair, data).normal.dot(relativeVelocity(pair, data, surface_velocity));
+  return planeNormal(pair, data).dot(relativeVelocity(pair, data, surface_velocity));
 }
 
 // The friction directions of the cone in world coordinates (3 × k).
@@ -123,7 +138,7 @@ void normalRow(const dynamics::Model<S>& model, const dynamics::Data<S>& data, c
     row[pair.coordinate] = S(pair.sign);
     return;
   }
-  const Vec3<S> n = planeFrame(pair, data).normal;
+  const Vec3<S> n = planeNormal(pair, data);
   forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { row[k] += n.dot(c); });
 }
 
@@ -137,7 +152,7 @@ void addReaction(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
     tau[pair.coordinate] += S(pair.sign) * r_n;
     return;
   }
-  const Vec3<S> f = planeFrame(pair, data).normal * r_n + f_t;
+  const Vec3<S> f = planeNormal(pair, data) * r_n + f_t;
   forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { tau[k] += c.dot(f); });
 }
 

@@ -163,7 +163,7 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
       vn = pair.sign * v_[pair.coordinate];
     } else {
       contact::relativeJacobian(model, data_, pair, J_point_[c]);
-      normal = contact::planeFrame(pair, data_).normal;
+      normal = contact::planeNormal(pair, data_);
       vn_free = normal.dot(J_point_[c] * v_free_);
       vn = normal.dot(J_point_[c] * v_);
     }
@@ -187,9 +187,9 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
     const contact::ContactPair& pair = pairs_[c];
     if (pair.k() == 0) continue;
     const Eigen::Vector3d v_surface = surfaceVelocity(pair, t_next);
-    const Eigen::Matrix3d R_B = dynamics::bodyRotation(data_, pair.body_b);
+    const Eigen::Matrix3d R_B = dynamics::bodyRotation(data_, pair.body_b);  // identity for the world
     for (int j = 0; j < pair.k(); ++j) {
-      const Eigen::Vector3d d = R_B * pair.directions_B.col(j);
+      const Eigen::Vector3d d = pair.body_b < 0 ? Eigen::Vector3d(pair.directions_B.col(j)) : R_B * pair.directions_B.col(j);
       J_.row(m_ + f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
@@ -298,7 +298,7 @@ void TimeStepper::project() {
       J_(m_, pair.coordinate) = pair.sign;
     } else {
       contact::relativeJacobian(model, data_, pair, J_point_[c]);
-      J_.row(m_).noalias() = contact::planeFrame(pair, data_).normal.transpose() * J_point_[c];
+      J_.row(m_).noalias() = contact::planeNormal(pair, data_).transpose() * J_point_[c];
     }
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
