@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
-#include <unistd.h>
+#include <sstream>
 
 #include "collocation/problem_file.hpp"
+#include "scene/atomic_file.hpp"
 
 namespace saltus::collocation {
 
@@ -58,22 +59,19 @@ std::string trim(const std::string& s) {
 void writeSolution(const std::string& dir, const Transcription& t, const Eigen::VectorXd& x) {
   const Problem& p = t.problem();
   const std::string path = (fs::path(dir) / kFileName).string();
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw SolutionError(path + ": cannot write the solution");
-  std::fprintf(f, "# saltus solution: decision variables by name\n");
-  std::fprintf(f, "# source: %s\n", sourceForFile(p.source).c_str());
-  std::fprintf(f, "# method: %s\n", toString(t.method()));
-  std::fprintf(f, "# N: %d\n# P: %d\n", p.N, p.P);
-  for (const auto& [name, value] : p.parameters) std::fprintf(f, "# parameter.%s: %.17g\n", name.c_str(), value);
-  std::fprintf(f, "name,value\n");
-  for (int i = 0; i < t.variables(); ++i) std::fprintf(f, "%s,%.17g\n", t.variableNames()[i].c_str(), x[i]);
-  bool ok = std::fflush(f) == 0 && !std::ferror(f);
-  ok = std::fclose(f) == 0 && ok;
-  std::error_code ec;
-  if (!ok || (fs::rename(tmp, path, ec), ec)) {
-    fs::remove(tmp, ec);
-    throw SolutionError(path + ": cannot write the solution");
+  std::ostringstream out;
+  out << std::setprecision(17);  // %.17g: every double reads back exactly
+  out << "# saltus solution: decision variables by name\n"
+      << "# source: " << sourceForFile(p.source) << "\n"
+      << "# method: " << toString(t.method()) << "\n"
+      << "# N: " << p.N << "\n# P: " << p.P << "\n";
+  for (const auto& [name, value] : p.parameters) out << "# parameter." << name << ": " << value << "\n";
+  out << "name,value\n";
+  for (int i = 0; i < t.variables(); ++i) out << t.variableNames()[i] << "," << x[i] << "\n";
+  try {
+    scene::writeFileAtomically(path, out.str());
+  } catch (const std::runtime_error& e) {
+    throw SolutionError(path + ": cannot write the solution (" + e.what() + ")");
   }
 }
 

@@ -1,11 +1,11 @@
 #include "collocation/solution.hpp"
 
-#include <cstdio>
-#include <filesystem>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "dynamics/aba.hpp"
+#include "scene/atomic_file.hpp"
 
 namespace saltus::collocation {
 
@@ -82,50 +82,45 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
 }
 
 void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw std::runtime_error(path + ": cannot write the trajectory");
   const auto& model = t.problem().scene.model;
-  std::string header = "t";
-  for (const auto& c : model.coordinate_name) header += ",q." + c;
-  for (const auto& c : model.coordinate_name) header += ",v." + c;
-  for (int i : t.problem().inputs) header += ",u." + model.coordinate_name[i];
+  std::ostringstream out;
+  out << std::setprecision(12);  // %.12g
+  out << "t";
+  for (const auto& c : model.coordinate_name) out << ",q." << c;
+  for (const auto& c : model.coordinate_name) out << ",v." << c;
+  for (int i : t.problem().inputs) out << ",u." << model.coordinate_name[i];
   std::vector<bool> spatial;
   for (const ContactPoint& c : t.contacts()) {
     spatial.push_back(c.k() > 2);
     const std::string p = ",contact." + c.name + ".";
     auto pair = [&](const std::string& name) { return spatial.back() ? p + name + "1" + p + name + "2" : p + name; };
-    header += p + "gap" + p + "vn" + pair("vt") + p + "rn" + pair("rt") + p + "pn" + pair("pt");
+    out << p + "gap" + p + "vn" + pair("vt") + p + "rn" + pair("rt") + p + "pn" + pair("pt");
   }
-  std::fprintf(f, "%s\n", header.c_str());
+  out << "\n";
   for (const Sample& s : samples) {
-    std::fprintf(f, "%.12g", s.t);
-    for (int i = 0; i < s.q.size(); ++i) std::fprintf(f, ",%.12g", s.q[i]);
-    for (int i = 0; i < s.v.size(); ++i) std::fprintf(f, ",%.12g", s.v[i]);
-    for (int i = 0; i < s.u.size(); ++i) std::fprintf(f, ",%.12g", s.u[i]);
+    out << s.t;
+    for (int i = 0; i < s.q.size(); ++i) out << "," << s.q[i];
+    for (int i = 0; i < s.v.size(); ++i) out << "," << s.v[i];
+    for (int i = 0; i < s.u.size(); ++i) out << "," << s.u[i];
     for (std::size_t c = 0; c < s.contacts.size(); ++c) {
       const ContactSample& cs = s.contacts[c];
       auto pair = [&](const Eigen::Vector2d& v) {
-        if (spatial[c])
-          std::fprintf(f, ",%.12g,%.12g", v[0], v[1]);
-        else
-          std::fprintf(f, ",%.12g", v[0]);
+        out << "," << v[0];
+        if (spatial[c]) out << "," << v[1];
       };
-      std::fprintf(f, ",%.12g,%.12g", cs.gap, cs.vn);
+      out << "," << cs.gap << "," << cs.vn;
       pair(cs.vt);
-      std::fprintf(f, ",%.12g", cs.rn);
+      out << "," << cs.rn;
       pair(cs.rt);
-      std::fprintf(f, ",%.12g", cs.pn);
+      out << "," << cs.pn;
       pair(cs.pt);
     }
-    std::fprintf(f, "\n");
+    out << "\n";
   }
-  const bool ok = std::fflush(f) == 0 && !std::ferror(f);
-  std::fclose(f);
-  std::error_code ec;
-  if (!ok || (std::filesystem::rename(tmp, path, ec), ec)) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write the trajectory");
+  try {
+    scene::writeFileAtomically(path, out.str());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": cannot write the trajectory (" + e.what() + ")");
   }
 }
 
