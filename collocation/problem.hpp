@@ -67,7 +67,7 @@ struct CostTerms {
 };
 
 enum class SeedKind {
-  Null,       // zero everywhere, positions at the initial state, h = h_max (the paper's default vector)
+  Null,       // zero everywhere (the initial state at [1, 0] by its bounds), h mid-range (the paper's default vector)
   Perturbed,  // null, plus uniform random values in [0, seed_scale] on positions and reactions
   Solution,   // an earlier solution (its variables.csv, saved_solution.hpp), perturbed by seed_scale
   Simulation,  // the time-stepper's motion from the initial state, the mesh on its impacts (simulation_seed.hpp)

@@ -118,8 +118,9 @@ class Transcription {
   // The surface velocity a contact sees at element n (steps on the mesh, problem.hpp).
   Eigen::Vector3d surfaceVelocity(int surface, int element) const;
 
-  // The paper's null seed: positions at the initial state, velocities and reactions zero,
-  // h = h_max; gap variables consistent with the positions.
+  // The paper's null seed: every variable zero, then projected into its bounds (so the initial
+  // point holds the initial state and every other position is zero), h at the middle of its
+  // bounds; the auxiliaries from makeConsistent (gaps computed before the projection).
   Eigen::VectorXd nullSeed() const;
   // Uniform random values in [0, scale] added to positions and normal reactions (paper §V.C),
   // then gaps recomputed; a fixed random seed makes it reproducible.
