@@ -96,10 +96,19 @@ S normalVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const S
   return planeNormal(pair, data).dot(relativeVelocity(pair, data, surface_velocity));
 }
 
+// Friction direction j of the cone in world coordinates (no allocation: for a time step).
+template <class S>
+Vec3<S> frictionDirection(const ContactPair& pair, const dynamics::Data<S>& data, int j) {
+  if (pair.body_b < 0) return pair.directions_B.col(j).cast<S>();
+  return dynamics::bodyRotation(data, pair.body_b) * pair.directions_B.col(j).cast<S>();
+}
+
 // The friction directions of the cone in world coordinates (3 × k).
 template <class S>
 Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, const dynamics::Data<S>& data) {
-  return dynamics::bodyRotation(data, pair.body_b) * pair.directions_B.cast<S>();
+  Eigen::Matrix<S, 3, Eigen::Dynamic> d(3, pair.k());
+  for (int j = 0; j < pair.k(); ++j) d.col(j) = frictionDirection(pair, data, j);
+  return d;
 }
 
 // Calls fn(k, c) with the column c of the relative Jacobian J_A(x) − J_B(x) (world coordinates)
@@ -130,9 +139,10 @@ void relativeJacobian(const dynamics::Model<S>& model, const dynamics::Data<S>& 
 }
 
 // The normal row of the pair's constraint (1 × nv): nᵀ J for a point on a plane, sign·e_iᵀ for a stop.
+// `row` may be a row of a column-major matrix (an LCP's constraint matrix).
 template <class S>
 void normalRow(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
-               dynamics::MatOut<Eigen::Matrix<S, 1, Eigen::Dynamic>> row) {
+               std::type_identity_t<Eigen::Ref<Eigen::Matrix<S, 1, Eigen::Dynamic>, 0, Eigen::InnerStride<>>> row) {
   row.setZero();
   if (pair.isStop()) {
     row[pair.coordinate] = S(pair.sign);

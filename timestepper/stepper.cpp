@@ -187,9 +187,8 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
     const contact::ContactPair& pair = pairs_[c];
     if (pair.k() == 0) continue;
     const Eigen::Vector3d v_surface = surfaceVelocity(pair, t_next);
-    const Eigen::Matrix3d R_B = dynamics::bodyRotation(data_, pair.body_b);  // identity for the world
     for (int j = 0; j < pair.k(); ++j) {
-      const Eigen::Vector3d d = pair.body_b < 0 ? Eigen::Vector3d(pair.directions_B.col(j)) : R_B * pair.directions_B.col(j);
+      const Eigen::Vector3d d = contact::frictionDirection(pair, data_, j);
       J_.row(m_ + f_).noalias() = d.transpose() * J_point_[c];
       surface_velocity_[f_++] = d.dot(v_surface);
     }
@@ -292,14 +291,7 @@ void TimeStepper::project() {
   active_.clear();
   for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
     if (reports_[c].gap >= -options_.penetration_tolerance) continue;
-    const contact::ContactPair& pair = pairs_[c];
-    if (pair.isStop()) {
-      J_.row(m_).setZero();
-      J_(m_, pair.coordinate) = pair.sign;
-    } else {
-      contact::relativeJacobian(model, data_, pair, J_point_[c]);
-      J_.row(m_).noalias() = contact::planeNormal(pair, data_).transpose() * J_point_[c];
-    }
+    contact::normalRow(model, data_, pairs_[c], J_.row(m_));
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
   }
