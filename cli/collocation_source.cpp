@@ -11,9 +11,9 @@ CollocationSource::CollocationSource(collocation::SavedSolution solution)
     : solution_(std::move(solution)), trajectory_(solution_.trajectory()) {
   using collocation::Method;
   const collocation::Transcription& t = *solution_.transcription;
-  for (const collocation::ContactPoint& c : t.contacts()) scene_contacts_ += c.is_limit ? 0 : 1;
-  // The transcription's contacts are the scene's contacts in order, then the limit stops
-  // (Transcription::buildContacts), so contact c < scene_contacts_ is scene contact c.
+  for (const contact::ContactPair& c : t.contacts()) scene_contacts_ += c.isStop() ? 0 : 1;
+  // The transcription's contacts are the scene's contact pairs: its contacts in order, then the
+  // limit stops (contact::contactPairs), so contact c < scene_contacts_ is scene contact c.
   const std::vector<collocation::Sample> samples = collocation::trajectory(t, solution_.x);
   std::map<std::pair<int, int>, const collocation::Sample*> at;  // (element, point) -> sample
   for (const collocation::Sample& s : samples) at[{s.element, s.point}] = &s;

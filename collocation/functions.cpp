@@ -15,7 +15,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
   const auto& model_d = models->modelWithoutGravity<Dual>();
   auto& data_d = models->data<Dual>();
   bool any_point = false;
-  for (const ContactPoint& c : *contacts) any_point = any_point || !c.is_limit;
+  for (const ContactPair& c : *contacts) any_point = any_point || !c.isStop();
   // First-order passes with q seeded, a chunk of coordinates at a time.
   VecD q(n), zero = VecD::Zero(n), l(n);
   for (int i = 0; i < n; ++i) {
@@ -32,31 +32,55 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
     for (int j = 0; j < n; ++j)
       for (int c = 0; c < count; ++c) h(first_acceleration + j, first + c) += Ml[j].derivatives()[c];
     if (!any_point) continue;
-    // (q, r) and (r_n, α): w_c(q) = J_c(q) λ.
+    // (q, r) and (r_n, α): ∂f/∂r_n · w and ∂f/∂t_i · w as functions of q, w(q) = J(q) λ the
+    // relative velocity at q̇ = λ; the normal and the directions carry q's derivatives when the
+    // plane is on a body (constants for a world plane).
     dynamics::forwardVelocities(model_d, data_d, ConstMap<Dual>(q.data(), n), ConstMap<Dual>(l.data(), n));
     int k = first_reaction;
-    for (const ContactPoint& c : *contacts) {
-      if (c.is_limit) {
+    for (const ContactPair& c : *contacts) {
+      if (c.isStop()) {  // tau_i −= sign·r_n: no q
         k += 1 + c.k();
         continue;
       }
-      const dynamics::Vec3<Dual> w = dynamics::pointVelocity(data_d, c.body, dynamics::Vec3<Dual>(c.p_B.cast<Dual>()));
+      const Vec3<Dual> w = contact::relativeVelocity(c, data_d);
       const double rn = x[k];
-      // ∂f/∂r_n and ∂f/∂(α_i or β_i).
-      Eigen::Vector3d df_drn = c.normal;
-      if (friction == FrictionForm::Activation)
-        for (int i = 0; i < c.k(); ++i) df_drn -= c.directions.col(i) * (c.mu * x[k + 1 + i]);
-      for (int col = 0; col < count; ++col) {
-        const Eigen::Vector3d dw(w[0].derivatives()[col], w[1].derivatives()[col], w[2].derivatives()[col]);
-        h(k, first + col) -= df_drn.dot(dw);
+      const double df_dt = friction == FrictionForm::Activation ? -c.friction * rn : 1.0;
+      // ∂(a·w)/∂q for a = ∂f/∂r_n and a = d_i: by the product rule, a's derivatives only when the
+      // plane turns with a body (for a world plane a is constant: double arithmetic, no duals).
+      Eigen::Matrix<double, 3, kChunk> dw;  // ∂w/∂q over the chunk
+      Eigen::Vector3d wv;
+      for (int r = 0; r < 3; ++r) dw.row(r) = w[r].derivatives().transpose(), wv[r] = w[r].value();
+      auto addRow = [&](int row, const Vec3<Dual>& a, double scale) {  // h(row, q) −= scale ∂(a·w)/∂q
+        Eigen::Vector3d av;
+        Eigen::Matrix<double, 3, kChunk> da;
+        for (int r = 0; r < 3; ++r) av[r] = a[r].value(), da.row(r) = a[r].derivatives().transpose();
+        const Eigen::Matrix<double, kChunk, 1> d = dw.transpose() * av + da.transpose() * wv;
+        for (int col = 0; col < count; ++col) h(row, first + col) -= scale * d[col];
+      };
+      auto addRowConstant = [&](int row, const Eigen::Vector3d& a, double scale) {
+        const Eigen::Matrix<double, kChunk, 1> d = dw.transpose() * a;
+        for (int col = 0; col < count; ++col) h(row, first + col) -= scale * d[col];
+      };
+      if (c.body_b < 0) {
+        Eigen::Vector3d df_drn = c.normal_B;
+        if (friction == FrictionForm::Activation)
+          for (int i = 0; i < c.k(); ++i) df_drn -= c.directions_B.col(i) * (c.friction * x[k + 1 + i]);
+        addRowConstant(k, df_drn, 1.0);
+        for (int i = 0; i < c.k(); ++i) addRowConstant(k + 1 + i, c.directions_B.col(i), df_dt);
+        if (first == 0 && friction == FrictionForm::Activation)
+          for (int i = 0; i < c.k(); ++i) h(k + 1 + i, k) += c.friction * c.directions_B.col(i).dot(wv);
+      } else {
+        Vec3<Dual> df_drn = contact::planeNormal(c, data_d);
         for (int i = 0; i < c.k(); ++i) {
-          const double df_dt = friction == FrictionForm::Activation ? -c.mu * rn : 1.0;
-          h(k + 1 + i, first + col) -= df_dt * c.directions.col(i).dot(dw);
+          const Vec3<Dual> d = contact::frictionDirection(c, data_d, i);
+          if (friction == FrictionForm::Activation) df_drn -= d * (c.friction * x[k + 1 + i]);
+          addRow(k + 1 + i, d, df_dt);
+          if (first == 0 && friction == FrictionForm::Activation) {
+            const Eigen::Vector3d dv(d[0].value(), d[1].value(), d[2].value());
+            h(k + 1 + i, k) += c.friction * dv.dot(wv);
+          }
         }
-      }
-      if (first == 0 && friction == FrictionForm::Activation) {
-        const Eigen::Vector3d wv(w[0].value(), w[1].value(), w[2].value());
-        for (int i = 0; i < c.k(); ++i) h(k + 1 + i, k) += c.mu * c.directions.col(i).dot(wv);
+        addRow(k, df_drn, 1.0);
       }
       k += 1 + c.k();
     }

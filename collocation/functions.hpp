@@ -8,46 +8,43 @@
 
 #include "collocation/local_function.hpp"
 #include "collocation/model_set.hpp"
-#include "dynamics/jacobian.hpp"
-#include "dynamics/kinematics.hpp"
+#include "contact/kinematics.hpp"
 #include "dynamics/rnea.hpp"
 
 namespace saltus::collocation {
 
 constexpr int kMaxCoordinates = 64;  // bound of the stack arrays in the local functions
-template <class S> using PointJacobian = Eigen::Matrix<S, 3, Eigen::Dynamic, 0, 3, kMaxCoordinates>;
 template <class S> using ConstMap = Eigen::Map<const Eigen::Matrix<S, Eigen::Dynamic, 1>>;
+template <class S> using Vec3 = dynamics::Vec3<S>;
 
-// One unilateral constraint of the problem: a point of a body on a surface (gap along the
-// surface normal, friction with a polyhedral cone of k directions, restitution e), or a
-// joint-limit stop (gap = sign·(q_i − limit), frictionless).
-struct ContactPoint {
-  std::string name;
-  bool is_limit = false;
-  int coordinate = -1;  // limit stop: the coordinate; sign +1 lower stop, −1 upper stop
-  double sign = 1, limit = 0;
-  int body = -1;
-  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // the point in body coordinates
-  int surface = -1;
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), surface_point = Eigen::Vector3d::Zero();
-  Eigen::Matrix3Xd directions;  // 3 × k unit tangent directions (paper eq. 11)
-  double mu = 0, e = 0;
-  int k() const { return static_cast<int>(directions.cols()); }
-
-  // Gap y(q) (needs forwardKinematics(q) for a point contact).
-  template <class S>
-  S gap(const dynamics::Data<S>& data, const S* q) const {
-    if (is_limit) return S(sign) * (q[coordinate] - S(limit));
-    const dynamics::Vec3<S> p = dynamics::pointPosition(data, body, dynamics::Vec3<S>(p_B.cast<S>()));
-    return normal.cast<S>().dot(p - surface_point.cast<S>());
-  }
-};
+// The problem's unilateral constraints are the scene's contact pairs (contact/pair.hpp): a point
+// on a plane (gap along the plane's normal, friction with a polyhedral cone of k directions,
+// restitution e) or a joint stop (frictionless); their kinematics come from contact/kinematics.hpp.
+using contact::ContactPair;
 
 // How tangential reactions enter the equations of motion.
 enum class FrictionForm {
   Activation,  // the paper's (11): r_t = μ r_n Σ d_i α_i, opposing the slip (force −r_t)
   Direct       // Posa et al.: a force Σ d_i β_i, β_i ≥ 0
 };
+
+// The contact force of a pair in world coordinates, f = n r_n + f_t, from its normal reaction r_n
+// and its k tangential variables t (normal and friction directions d_i from the contact layer):
+//   Activation (paper eq. 11): f_t = −μ r_n Σ_i d_i α_i     Direct (Posa et al.): f_t = Σ_i d_i β_i
+// `tangential_only` leaves the normal part out (f_t alone).
+template <class S>
+Vec3<S> contactForce(const ContactPair& pair, const dynamics::Data<S>& data, FrictionForm form, const S& r_n,
+                     const S* t, bool tangential_only = false) {
+  Vec3<S> f = tangential_only ? Vec3<S>(Vec3<S>::Zero()) : Vec3<S>(contact::planeNormal(pair, data) * r_n);
+  for (int i = 0; i < pair.k(); ++i) {
+    const Vec3<S> d = contact::frictionDirection(pair, data, i);
+    if (form == FrictionForm::Activation)
+      f -= d * (S(pair.friction) * r_n * t[i]);
+    else
+      f += d * t[i];
+  }
+  return f;
+}
 
 // Equations of motion at a point, with the reactions of the contacts:
 //   with_dynamics:  M(q) q̈ + C(q, q̇) q̇ + g(q) − B u − Σ_c J_cᵀ f_c = 0   (paper §II.C)
@@ -57,7 +54,7 @@ enum class FrictionForm {
 // contact: r_n and its k tangential variables.
 struct EquationOfMotion {
   const ModelSet* models;
-  const std::vector<ContactPoint>* contacts;
+  const std::vector<ContactPair>* contacts;
   std::vector<int> actuated;  // coordinates the inputs act on
   bool with_dynamics = true;
   FrictionForm friction = FrictionForm::Activation;
@@ -66,7 +63,7 @@ struct EquationOfMotion {
   int inputs_count() const { return with_dynamics ? static_cast<int>(actuated.size()) : 0; }
   int inputs() const {
     int k = (with_dynamics ? 3 : 2) * nv() + inputs_count();
-    for (const ContactPoint& c : *contacts) k += 1 + c.k();
+    for (const ContactPair& c : *contacts) k += 1 + c.k();
     return k;
   }
   int outputs() const { return nv(); }
@@ -78,7 +75,7 @@ struct EquationOfMotion {
     if (with_dynamics && i < 2 * n) return true;  // q̇
     if (friction != FrictionForm::Activation) return false;
     int k = (with_dynamics ? 3 : 2) * n + inputs_count();
-    for (const ContactPoint& c : *contacts) {
+    for (const ContactPair& c : *contacts) {
       if (i == k) return c.k() > 0;  // r_n
       k += 1 + c.k();
     }
@@ -88,7 +85,8 @@ struct EquationOfMotion {
   // outer direction per coordinate); the rest, in addHessian (functions.cpp), from first-order
   // passes and double evaluations:
   //   (q, q̈):  ∂²φ/∂q_i∂q̈_j = ∂(M(q) λ)_j/∂q_i, M symmetric; M(q) λ = RNEA(q, 0, λ) without gravity
-  //   (q, r):  φ_c = −f_c(r)·w_c(q), w_c = J_c(q) λ the point's velocity at q̇ = λ (RBDA 4.4)
+  //   (q, r):  φ_c = −f_c(q, r)·w_c(q), w_c = J_c(q) λ the contact's relative velocity at q̇ = λ
+  //            (RBDA 4.4); f_c depends on q through the plane's frame when the plane is on a body
   //   (r_n, α_i): μ d_i·w_c (Activation; zero in the Direct form)
   //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
   //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
@@ -107,7 +105,7 @@ struct EquationOfMotion {
     const S* u = a + n;
     const S* r = u + inputs_count();
     // RNEA first: its outward pass leaves ^iX_λ (and S_i(q) of a multi-coordinate joint) in
-    // data, from which the world poses the contact Jacobians need are composed (the pose of
+    // data, from which the world poses the contact layer's Jacobians need are composed (the pose of
     // forwardKinematics(q) without evaluating the joint transforms twice).
     const auto zero = Eigen::Matrix<S, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1>::Zero(n);
     const auto& tau = with_dynamics ? dynamics::rnea(model, data, ConstMap<S>(q, n), ConstMap<S>(v, n), ConstMap<S>(a, n))
@@ -117,25 +115,12 @@ struct EquationOfMotion {
       const int p = model.parent[i];
       data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
     }
-    // − Σ J_cᵀ f_c.
-    PointJacobian<S> J(3, n);
-    for (const ContactPoint& c : *contacts) {
+    // − Σ J_cᵀ f_c, J_c the contact layer's relative Jacobian (contact::addReaction adds Jᵀ f:
+    // here with the reaction's opposite; − sign r_n on a stop's coordinate).
+    for (const ContactPair& c : *contacts) {
       const S& rn = r[0];
-      if (c.is_limit) {
-        y[c.coordinate] -= S(c.sign) * rn;
-        r += 1;
-        continue;
-      }
-      dynamics::Vec3<S> f = c.normal.cast<S>() * rn;
-      for (int i = 0; i < c.k(); ++i) {
-        const dynamics::Vec3<S> d = c.directions.col(i).cast<S>();
-        if (friction == FrictionForm::Activation)
-          f -= d * (S(c.mu) * rn * r[1 + i]);
-        else
-          f += d * r[1 + i];
-      }
-      dynamics::pointJacobian(model, data, c.body, dynamics::Vec3<S>(c.p_B.cast<S>()), J);
-      for (int j = 0; j < n; ++j) y[j] -= J.col(j).dot(f);
+      const Vec3<S> f_t = contactForce(c, data, friction, rn, r + 1, true);
+      contact::addReaction(model, data, c, S(-rn), Vec3<S>(-f_t), y);
       r += 1 + c.k();
     }
     for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
@@ -147,7 +132,7 @@ struct EquationOfMotion {
 // Inputs: q (n), y (one per contact).
 struct GapDefinition {
   const ModelSet* models;
-  const std::vector<ContactPoint>* contacts;
+  const std::vector<ContactPair>* contacts;
   int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
   int outputs() const { return static_cast<int>(contacts->size()); }
   bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; affine in y
@@ -157,27 +142,19 @@ struct GapDefinition {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
     dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n));
-    for (int c = 0; c < outputs(); ++c) y[c] = x[n + c] - (*contacts)[c].gap(data, x);
+    for (int c = 0; c < outputs(); ++c) y[c] = x[n + c] - contact::gap((*contacts)[c], data, x);
   }
 };
-
-// Normal velocity of a contact, ẏ = d/dt gap(q) = n·v_P (or sign·q̇_i for a stop), and the
-// tangential slip velocity d_iᵀ(v_P − v_surface). Needs forwardVelocities(q, q̇).
-template <class S>
-S normalVelocity(const ContactPoint& c, const dynamics::Data<S>& data, const S* v) {
-  if (c.is_limit) return S(c.sign) * v[c.coordinate];
-  return c.normal.cast<S>().dot(dynamics::pointVelocity(data, c.body, dynamics::Vec3<S>(c.p_B.cast<S>())));
-}
 
 // Restitution at an element boundary, paper eq. (9a):
 //   a⁺ − a⁻ − ẏ[n, 0] − e ẏ[n−1, P+1] = 0   (ẏ[n, 0] after the jump, ẏ[n−1, P+1] before it)
 // Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻.
 struct RestitutionBalance {
   const ModelSet* models;
-  const ContactPoint* contact;
+  const ContactPair* contact;
   int inputs() const { return 4 * models->model<double>().nv() + 2; }
   int outputs() const { return 1; }
-  // ẏ = n·J_P(q) q̇ is linear in q̇ for fixed q: only the two q's are nonlinear.
+  // ẏ = nᵀ J(q) q̇ (contact::normalVelocity) is linear in q̇ for fixed q: only the two q's are nonlinear.
   bool nonlinear(int i) const {
     const int n = models->model<double>().nv();
     return i < n || (i >= 2 * n && i < 3 * n);
@@ -194,25 +171,26 @@ struct RestitutionBalance {
     const auto& model = models->model<S>();
     auto& data = models->data<S>();
     dynamics::forwardVelocities(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
-    const S after = normalVelocity(*contact, data, x + n);
+    const S after = contact::normalVelocity(*contact, data, x + n);
     dynamics::forwardVelocities(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
-    const S before = normalVelocity(*contact, data, x + 3 * n);
-    y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->e) * before;
+    const S before = contact::normalVelocity(*contact, data, x + 3 * n);
+    y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->restitution) * before;
   }
 };
 
 // Slip slacks of a friction cone at one point:
 //   Activation (paper eq. 12): ψ_i = γ − d_iᵀ v_t ≥ 0,   α_i ⊥ ψ_i
 //   Direct (Posa et al.):      ψ_i = γ + d_iᵀ v_t ≥ 0,   β_i ⊥ ψ_i
-// as equalities ψ_i − γ ± d_iᵀ(v_P − v_surface) = 0. Inputs: q, q̇ (2n), γ, ψ_1 … ψ_k.
+// as equalities ψ_i − γ ± d_iᵀ v_t = 0, v_t the contact's relative velocity (contact layer; for a
+// world plane less the surface's velocity at this element). Inputs: q, q̇ (2n), γ, ψ_1 … ψ_k.
 struct SlipSlack {
   const ModelSet* models;
-  const ContactPoint* contact;
+  const ContactPair* contact;
   Eigen::Vector3d surface_velocity = Eigen::Vector3d::Zero();
   FrictionForm friction = FrictionForm::Activation;
   int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
-  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_P = J_P(q) q̇
+  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_t = J(q) q̇ − v_surface
   // γ and ψ enter with constant coefficients: the pairs within (q, q̇).
   bool pairByAd(int i, int j) const { return j < models->model<double>().nv() && i < 2 * models->model<double>().nv(); }
   template <class S>
@@ -220,13 +198,11 @@ struct SlipSlack {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
     dynamics::forwardVelocities(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
-    const dynamics::Vec3<S> slip =
-        dynamics::pointVelocity(data, contact->body, dynamics::Vec3<S>(contact->p_B.cast<S>())) -
-        surface_velocity.cast<S>();
+    const Vec3<S> slip = contact::relativeVelocity(*contact, data, Vec3<S>(surface_velocity.cast<S>()));
     const S& gamma = x[2 * n];
     const S sign(friction == FrictionForm::Activation ? 1.0 : -1.0);
     for (int i = 0; i < contact->k(); ++i)
-      y[i] = x[2 * n + 1 + i] - gamma + sign * contact->directions.col(i).cast<S>().dot(slip);
+      y[i] = x[2 * n + 1 + i] - gamma + sign * contact::frictionDirection(*contact, data, i).dot(slip);
   }
 };
 

@@ -21,7 +21,6 @@ struct Simulated {
   std::vector<bool> impact;                                // step k is impulsive
   std::vector<double> impact_time;                         // of an impulsive step: when in it the contact closes
   std::vector<double> transitions;  // times a contact opened, closed without impact, stuck or began to slide
-  std::vector<Eigen::Matrix<double, 3, 2>> tangents;       // per surface, the stepper's basis
 
   long steps() const { return static_cast<long>(impact.size()); }
   long stepAt(double t) const { return std::clamp(static_cast<long>(std::floor(t / dt)), 0L, steps() - 1); }
@@ -127,7 +126,6 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration) {
   stepper.reset(scene.q0, scene.v0);
   Simulated s;
   s.dt = dt;
-  for (int i = 0; i < static_cast<int>(scene.surfaces.size()); ++i) s.tangents.push_back(stepper.tangentBasis(i));
   const long K = std::max(1L, static_cast<long>(std::ceil(duration / dt)));
   s.q.push_back(scene.q0);
   s.v.push_back(scene.v0);
@@ -254,6 +252,8 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
   Eigen::VectorXd x = t.nullSeed();
   const int per_element = t.method() == Method::FirstOrder ? p.first_order_steps_per_element : 1;
   const auto& contacts = t.contacts();
+  const auto& model = t.models().model<double>();
+  auto& data = t.models().data<double>();
   const int nu = static_cast<int>(p.inputs.size());
   Eigen::VectorXd q, v, q_before, v_before;
   double t0 = 0;
@@ -299,6 +299,7 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
           x.segment(pt.a, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt + jump / hm;
         }
       }
+      dynamics::forwardKinematics(model, data, q);  // the contact frames at this point
       for (std::size_t c = 0; c < contacts.size(); ++c) {
         const auto& C = L.contacts[c];
         if (C.rn[pi] < 0) continue;
@@ -319,9 +320,12 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
           }
         }
         x[C.rn[pi]] = pn;
-        const ContactPoint& cp = contacts[c];
-        if (cp.k() == 0 || cp.is_limit) continue;
-        const Eigen::Matrix<double, 3, 2>& T = sim.tangents.at(cp.surface);
+        const ContactPair& cp = contacts[c];
+        if (cp.k() == 0 || cp.isStop()) continue;
+        // The stepper reports tangential quantities in the pair's tangent basis (the contact
+        // layer's frame at this state).
+        const Eigen::Matrix<double, 3, 2> T = contact::planeFrame(cp, data).tangents;
+        const Eigen::Matrix3Xd d = contact::frictionDirections(cp, data);
         const Eigen::Vector3d f_t = pt1 * T.col(0) + pt2 * T.col(1);
         const timestepper::ContactReport& r = sim.c[sim.stepAt(time)][c];
         const Eigen::Vector3d v_t = r.vt1 * T.col(0) + r.vt2 * T.col(1);  // the slip
@@ -329,18 +333,18 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
         auto closest = [&](const Eigen::Vector3d& w) {
           int best = 0;
           for (int i = 1; i < cp.k(); ++i)
-            if (cp.directions.col(i).dot(w) > cp.directions.col(best).dot(w)) best = i;
+            if (d.col(i).dot(w) > d.col(best).dot(w)) best = i;
           return best;
         };
         if (t.method() == Method::FirstOrder) {
           const int i = closest(f_t);  // β: the friction force along d_i
-          x[C.t[pi] + i] = std::max(0.0, cp.directions.col(i).dot(f_t));
+          x[C.t[pi] + i] = std::max(0.0, d.col(i).dot(f_t));
         } else if (v_t.norm() > 1e-6) {
           x[C.t[pi] + closest(v_t)] = 1;  // sliding (or open): Σα = 1 along the slip (eqs. 11–13)
-        } else if (cp.mu * pn > 0) {
+        } else if (cp.friction * pn > 0) {
           // sticking: the force −μ r_n Σ d_i α_i (eq. 11) is the simulated friction f_t
           const int i = closest(-f_t);
-          x[C.t[pi] + i] = std::min(1.0, std::max(0.0, -cp.directions.col(i).dot(f_t)) / (cp.mu * pn));
+          x[C.t[pi] + i] = std::min(1.0, std::max(0.0, -d.col(i).dot(f_t)) / (cp.friction * pn));
         }
       }
     }

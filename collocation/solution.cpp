@@ -48,29 +48,23 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
                                                     : inputsAt(t, L, x, nu, L.tau[p]);
       dynamics::forwardKinematics(model, data, s.q, s.v);
       for (std::size_t c = 0; c < t.contacts().size(); ++c) {
-        const ContactPoint& cp = t.contacts()[c];
+        const ContactPair& cp = t.contacts()[c];
         const auto& C = L.contacts[c];
         ContactSample cs;
         cs.gap = x[C.y[p]];
-        cs.vn = normalVelocity(cp, data, s.v.data());
-        if (!cp.is_limit) {
-          const scene::Surface& surface = t.problem().scene.surfaces[cp.surface];
-          const Eigen::Matrix<double, 3, 2> T = surface.tangents();
-          const Eigen::Vector3d slip =
-              dynamics::pointVelocity(data, cp.body, cp.p_B) - t.surfaceVelocity(cp.surface, element);
-          cs.vt = T.transpose() * slip;
+        cs.vn = contact::normalVelocity(cp, data, s.v.data());
+        const bool impulse = impulsive && p == 0;
+        if (!cp.isStop()) {
+          const Eigen::Matrix<double, 3, 2> T = contact::planeFrame(cp, data).tangents;
+          cs.vt = T.transpose() * contact::relativeVelocity(cp, data, t.surfaceVelocity(cp.surface, element));
           if (C.rn[p] >= 0) {
             const double rn = x[C.rn[p]];
-            Eigen::Vector3d ft = Eigen::Vector3d::Zero();
-            for (int i = 0; i < cp.k(); ++i)
-              ft += fo ? Eigen::Vector3d(cp.directions.col(i) * x[C.t[p] + i])
-                       : Eigen::Vector3d(-cp.directions.col(i) * (cp.mu * rn * x[C.t[p] + i]));
-            const bool impulse = impulsive && p == 0;
+            const double* tangential = cp.k() > 0 ? x.data() + C.t[p] : nullptr;
             (impulse ? cs.pn : cs.rn) = rn;
-            (impulse ? cs.pt : cs.rt) = T.transpose() * ft;
+            (impulse ? cs.pt : cs.rt) = T.transpose() * contactForce(cp, data, t.frictionForm(), rn, tangential, true);
           }
         } else if (C.rn[p] >= 0) {
-          (impulsive && p == 0 ? cs.pn : cs.rn) = x[C.rn[p]];
+          (impulse ? cs.pn : cs.rn) = x[C.rn[p]];
         }
         s.contacts.push_back(cs);
       }
@@ -90,7 +84,7 @@ void writeTrajectoryCsv(const std::string& path, const Transcription& t, const s
   for (const auto& c : model.coordinate_name) out << ",v." << c;
   for (int i : t.problem().inputs) out << ",u." << model.coordinate_name[i];
   std::vector<bool> spatial;
-  for (const ContactPoint& c : t.contacts()) {
+  for (const ContactPair& c : t.contacts()) {
     spatial.push_back(c.k() > 2);
     const std::string p = ",contact." + c.name + ".";
     auto pair = [&](const std::string& name) { return spatial.back() ? p + name + "1" + p + name + "2" : p + name; };
@@ -143,7 +137,6 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
       for (int i = 0; i < nv; ++i)
         q_max[i] = std::max(q_max[i], std::abs(x[pt.q + i])), v_max[i] = std::max(v_max[i], std::abs(x[pt.v + i]));
   Eigen::VectorXd q(nv), v(nv), qd(nv), vd(nv), tau(nv);
-  Eigen::Matrix3Xd J(3, nv);
   for (int n = 0; n < t.elements(); ++n) {
     const ElementLayout& L = t.layout()[n];
     const double h = x[L.h];
@@ -177,21 +170,15 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
         for (int j = 0; j < P; ++j) tau[t.problem().inputs[i]] += ls[j] * x[L.points[L.collocation[j]].u + i];
       dynamics::forwardKinematics(model, data, q);
       for (std::size_t c = 0; c < t.contacts().size(); ++c) {
-        const ContactPoint& cp = t.contacts()[c];
+        const ContactPair& cp = t.contacts()[c];
         const auto& C = L.contacts[c];
         for (int j = 0; j < P; ++j) {
           const int p = L.collocation[j];
           const double rn = x[C.rn[p]];
-          if (cp.is_limit) {
-            tau[cp.coordinate] += ls[j] * cp.sign * rn;
-            continue;
-          }
-          Eigen::Vector3d f = cp.normal * rn;
-          for (int i = 0; i < cp.k(); ++i)
-            f += fo ? Eigen::Vector3d(cp.directions.col(i) * x[C.t[p] + i])
-                    : Eigen::Vector3d(-cp.directions.col(i) * (cp.mu * rn * x[C.t[p] + i]));
-          dynamics::pointJacobian(model, data, cp.body, Eigen::Vector3d(cp.p_B), J);
-          tau += ls[j] * J.transpose() * f;
+          const double* tangential = cp.k() > 0 ? x.data() + C.t[p] : nullptr;
+          const Eigen::Vector3d f_t = cp.isStop() ? Eigen::Vector3d::Zero().eval()
+                                                  : contactForce(cp, data, t.frictionForm(), rn, tangential, true);
+          contact::addReaction(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), tau.data());
         }
       }
       const Eigen::VectorXd& qdd = dynamics::aba(model, data, q, v, tau);

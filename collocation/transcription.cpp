@@ -49,34 +49,7 @@ Transcription::Transcription(const Problem& problem, Method method)
   applyBounds();
 }
 
-void Transcription::buildContacts() {
-  const scene::Scene& s = problem_.scene;
-  for (const scene::Contact& c : s.contacts) {
-    ContactPoint cp;
-    cp.name = c.name;
-    cp.body = c.body;
-    cp.p_B = c.p_B;
-    cp.surface = c.surface;
-    const scene::Surface& surface = s.surfaces.at(c.surface);
-    cp.normal = surface.normal;
-    cp.surface_point = surface.point;
-    cp.mu = c.friction;
-    cp.e = c.restitution;
-    cp.directions = c.friction > 0 ? surface.coneDirections(c.directions) : Eigen::Matrix3Xd(3, 0);
-    contacts_.push_back(cp);
-  }
-  for (const scene::LimitStop& l : s.limits) {
-    ContactPoint cp;
-    cp.name = l.name;
-    cp.is_limit = true;
-    cp.coordinate = l.coordinate;
-    cp.sign = l.upper ? -1 : 1;
-    cp.limit = l.limit;
-    cp.e = l.restitution;
-    cp.directions = Eigen::Matrix3Xd(3, 0);
-    contacts_.push_back(cp);
-  }
-}
+void Transcription::buildContacts() { contacts_ = contact::contactPairs(problem_.scene); }
 
 int Transcription::addVariables(int count, double lower, double upper, const std::string& name) {
   const int first = static_cast<int>(xl_.size());
@@ -169,7 +142,7 @@ void Transcription::buildVariables() {
     if (jump) L.points[0].a = addVariables(nv_, -kInf, kInf, "dv" + at(n, 0));
     L.contacts.resize(contacts_.size());
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
-      const ContactPoint& cp = contacts_[c];
+      const ContactPair& cp = contacts_[c];
       auto& C = L.contacts[c];
       const std::string tag = cp.name;
       C.y.assign(npts, -1);
@@ -239,7 +212,7 @@ void Transcription::buildElementConstraints(int n) {
     }
   }
   // Equations of motion at the collocation points, and (6) at an impulsive [n, 0].
-  const FrictionForm form = fo ? FrictionForm::Direct : FrictionForm::Activation;
+  const FrictionForm form = frictionForm();
   auto eom = [&](int p, bool with_dynamics) {
     // One function per kind, shared by every point (its work arrays are sized once).
     auto& f = eom_[with_dynamics ? 1 : 0];
@@ -282,7 +255,7 @@ void Transcription::buildContactConstraints(int n) {
     addBlock(gap, vars, 0, 0, "gap" + at(n, p));
   }
   for (int c = 0; c < nc; ++c) {
-    const ContactPoint& cp = contacts_[c];
+    const ContactPair& cp = contacts_[c];
     auto& C = L.contacts[c];
     const std::string tag = cp.name;
     // (9) at an impulsive [n, 0].
@@ -330,7 +303,7 @@ void Transcription::buildContactConstraints(int n) {
     for (int p : force_points) {
       const int psi = addVariables(cp.k(), 0, kInf, "psi." + tag + at(n, p));
       SlipSlack s{models_.get(), &contacts_[c], surfaceVelocity(cp.surface, element),
-                  fo ? FrictionForm::Direct : FrictionForm::Activation};
+                  frictionForm()};
       std::vector<int> vars = range(L.points[p].q, nv_);
       for (int v : range(L.points[p].v, nv_)) vars.push_back(v);
       vars.push_back(C.gamma[p]);
@@ -346,7 +319,7 @@ void Transcription::buildContactConstraints(int n) {
         std::vector<int> cone = {C.rn[p]};
         cone.insert(cone.end(), t.begin(), t.end());
         Eigen::VectorXd c_cone = -Eigen::VectorXd::Ones(cp.k() + 1);
-        c_cone[0] = cp.mu;
+        c_cone[0] = cp.friction;
         addBlock(std::make_shared<LinearFunction>(c_cone), cone, 0, kInf, "cone." + tag + at(n, p));
         addProduct({C.gamma[p]}, Eigen::VectorXd::Ones(1), 0, cone, c_cone, 0, "sliding." + tag + at(n, p));
       } else {
@@ -461,6 +434,7 @@ void Transcription::applyBounds() {
 }
 
 Eigen::Vector3d Transcription::surfaceVelocity(int surface, int element) const {
+  if (surface < 0) return Eigen::Vector3d::Zero();  // a plane on a body: no prescribed motion
   const auto it = problem_.surface_steps.find(surface);
   if (it == problem_.surface_steps.end() || it->second.empty())
     return problem_.scene.surfaces.at(surface).velocity(0.0);
@@ -492,7 +466,7 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
     for (std::size_t p = 0; p < L.points.size(); ++p) {
       dynamics::forwardKinematics(models_->model<double>(), data, x.segment(L.points[p].q, nv_));
       for (std::size_t c = 0; c < contacts_.size(); ++c)
-        x[L.contacts[c].y[p]] = std::max(0.0, contacts_[c].gap(data, x.data() + L.points[p].q));
+        x[L.contacts[c].y[p]] = std::max(0.0, contact::gap(contacts_[c], data, x.data() + L.points[p].q));
     }
   x = x.cwiseMax(x_lower_hint_).cwiseMin(x_upper_hint_);
   // a⁺ − a⁻ = ẏ[n, 0] + e ẏ[n − 1, P + 1] (9a) with a⁺ a⁻ = 0: the balance is linear in the pair.

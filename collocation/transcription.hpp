@@ -89,8 +89,13 @@ class Transcription {
 
   const Problem& problem() const { return problem_; }
   Method method() const { return method_; }
+  // How the tangential variables make the friction force: the first-order method's Direct form
+  // (β), the collocation methods' Activation form (α, paper eq. 11).
+  FrictionForm frictionForm() const {
+    return method_ == Method::FirstOrder ? FrictionForm::Direct : FrictionForm::Activation;
+  }
   const ModelSet& models() const { return *models_; }
-  const std::vector<ContactPoint>& contacts() const { return contacts_; }
+  const std::vector<ContactPair>& contacts() const { return contacts_; }
   const LegendreGauss& lg() const { return lg_; }
   int elements() const { return static_cast<int>(layout_.size()); }
   const std::vector<ElementLayout>& layout() const { return layout_; }
@@ -149,7 +154,7 @@ class Transcription {
   const Problem& problem_;
   Method method_;
   std::unique_ptr<ModelSet> models_;
-  std::vector<ContactPoint> contacts_;
+  std::vector<ContactPair> contacts_;
   LegendreGauss lg_;
   int nv_ = 0, nu_ = 0;
   std::vector<ElementLayout> layout_;

@@ -79,21 +79,37 @@ Vec3<S> pointOnB(const ContactPair& pair, const dynamics::Data<S>& data) {
   return dynamics::bodyRotation(data, pair.body_b).transpose() * (x - dynamics::bodyPosition(data, pair.body_b));
 }
 
-// Relative velocity of the contact point of a point on a plane, in world coordinates:
-// v_A(x) − v_B(x) − surface_velocity (the world plane's material velocity, e.g. a belt's; zero
-// for a plane on a body). Not for a stop (see normalVelocity).
-template <class S>
-Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const Vec3<S>& surface_velocity) {
-  Vec3<S> w = dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()));
-  if (pair.body_b >= 0) w -= dynamics::pointVelocity(data, pair.body_b, pointOnB(pair, data));
-  return w - surface_velocity;
+// Whether the contact point lies over the plane's rectangle (always, for a world plane or a
+// stop): |t_i·(x − p)| ≤ extent_i in B's coordinates. A point beyond it touches nothing.
+inline bool withinExtent(const ContactPair& pair, const dynamics::Data<double>& data) {
+  if (pair.isStop() || pair.body_b < 0) return true;
+  const Eigen::Vector2d s = pair.tangents_B.transpose() * (pointOnB(pair, data) - pair.plane_point_B);
+  return std::abs(s[0]) <= pair.extent[0] && std::abs(s[1]) <= pair.extent[1];
 }
 
-// Normal component of the relative velocity: n·relativeVelocity, sign·q̇_i for a stop.
+// Relative velocity of the contact point of a point on a plane, in world coordinates, of the
+// bodies alone: v_A(x) − v_B(x) (B's material point at x; nothing for the world) = J q̇. Not for a
+// stop (see normalVelocity).
 template <class S>
-S normalVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const S* v, const Vec3<S>& surface_velocity) {
+Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data) {
+  if (pair.body_b < 0) return dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()));
+  return dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>())) -
+         dynamics::pointVelocity(data, pair.body_b, pointOnB(pair, data));
+}
+
+// The same less a world plane's material velocity (a belt's; tangent to the plane): the slip.
+template <class S>
+Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data,
+                         const std::type_identity_t<Vec3<S>>& surface_velocity) {
+  return relativeVelocity(pair, data) - surface_velocity;
+}
+
+// Normal component of the relative velocity, n·(J q̇) (a surface's own motion is tangent to it,
+// so it has none); sign·q̇_i for a stop.
+template <class S>
+S normalVelocity(const ContactPair& pair, const dynamics::Data<S>& data, const S* v) {
   if (pair.isStop()) return S(pair.sign) * v[pair.coordinate];
-  return planeNormal(pair, data).dot(relativeVelocity(pair, data, surface_velocity));
+  return planeNormal(pair, data).dot(relativeVelocity(pair, data));
 }
 
 // Friction direction j of the cone in world coordinates (no allocation: for a time step).
@@ -118,15 +134,18 @@ template <class S, class F>
 void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
                            F&& fn) {
   const Vec3<S> x = contactPoint(pair, data);
-  auto path = [&](int body, double sign) {
+  auto path = [&](int body, bool negate) {  // (a negation, not a product: cheap for AD scalars)
     for (int j = body; j >= 0; j = model.parent[j])
       for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
         const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
-        fn(k, Vec3<S>(S(sign) * (s.v + s.w.cross(x))));
+        if (negate)
+          fn(k, Vec3<S>(-(s.v + s.w.cross(x))));
+        else
+          fn(k, Vec3<S>(s.v + s.w.cross(x)));
       }
   };
-  path(pair.body_a, 1.0);
-  path(pair.body_b, -1.0);
+  path(pair.body_a, false);
+  path(pair.body_b, true);
 }
 
 // The relative Jacobian J_A(x) − J_B(x) (3 × nv, world coordinates): J q̇ is the relative velocity

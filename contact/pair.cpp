@@ -6,18 +6,27 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
   std::vector<ContactPair> pairs;
   pairs.reserve(scene.contacts.size() + scene.limits.size());
   for (const scene::Contact& c : scene.contacts) {
-    const scene::Surface& surface = scene.surfaces.at(static_cast<std::size_t>(c.surface));
     ContactPair p;
     p.name = c.name;
     p.kind = PairKind::PointOnPlane;
     p.body_a = c.body;
     p.point_A = c.p_B;
-    p.body_b = -1;
-    p.plane_point_B = surface.point;
-    p.normal_B = surface.normal;
-    p.tangents_B = surface.tangents();
-    p.directions_B = c.friction > 0 ? surface.coneDirections(c.directions) : Eigen::Matrix3Xd(3, 0);
-    p.surface = c.surface;
+    if (c.surface >= 0) {
+      const scene::Surface& surface = scene.surfaces.at(static_cast<std::size_t>(c.surface));
+      p.body_b = -1;
+      p.plane_point_B = surface.point;
+      p.normal_B = surface.normal;
+      p.tangents_B = surface.tangents();
+      p.surface = c.surface;
+    } else {
+      p.body_b = c.plane.body;
+      p.plane_point_B = c.plane.point;
+      p.normal_B = c.plane.normal;
+      p.tangents_B = c.plane.tangents;
+      p.extent = c.plane.extent;
+      p.surface = -1;
+    }
+    p.directions_B = c.friction > 0 ? scene::coneDirections(p.tangents_B, c.directions) : Eigen::Matrix3Xd(3, 0);
     p.restitution = c.restitution;
     p.friction = c.friction;
     pairs.push_back(std::move(p));

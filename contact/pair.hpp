@@ -13,6 +13,7 @@
 //                     +1 at a lower limit, −1 at an upper one; frictionless
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ struct ContactPair {
   Eigen::Vector3d normal_B = Eigen::Vector3d::UnitZ();     // unit normal, in B's coordinates
   Eigen::Matrix<double, 3, 2> tangents_B = Eigen::Matrix<double, 3, 2>::Identity();  // (t1, t2) = n × t1
   Eigen::Matrix3Xd directions_B;  // 3 × k unit friction directions in the plane (B's coordinates)
+  // Half-lengths of the plane's rectangle along (t1, t2) about plane_point_B (a body's plane: a
+  // point beyond it touches nothing); infinite for a world surface.
+  Eigen::Vector2d extent = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   int surface = -1;  // the scene surface the plane is (its velocity schedule), −1: none
 
   // JointStop.
@@ -49,8 +53,9 @@ struct ContactPair {
 };
 
 // The pairs of a scene: its contacts (in order), then its joint-limit stops (in order). A
-// contact's plane is its surface (fixed in the world): normal and point as given, tangents and
-// friction directions from Surface::tangents and Surface::coneDirections.
+// contact's plane is its world surface (normal and point as given, tangents and friction
+// directions from Surface::tangents and Surface::coneDirections) or the plane on another body it
+// names (scene::BodyPlane, with its extent).
 std::vector<ContactPair> contactPairs(const scene::Scene& scene);
 
 }  // namespace saltus::contact

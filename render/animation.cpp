@@ -55,10 +55,7 @@ Animation::Animation(const scene::Scene& scene, const TrajectorySource& source, 
     bounds_.add(b);
   }
   for (const SceneGeometry::Pose& pose : poses_)
-    for (std::size_t c = 0; c < scene.contacts.size(); ++c) {
-      const scene::Surface& s = scene.surfaces[scene.contacts[c].surface];
-      bounds_.add(pose.p_contact[c] - s.gap(pose.p_contact[c]) * s.normal);
-    }
+    for (std::size_t c = 0; c < pose.p_contact.size(); ++c) bounds_.add(pose.onPlane(c));
   if (bounds_.empty()) bounds_.addSphere(Eigen::Vector3d::Zero(), 0.5);
   radius_ = std::max(0.5 * bounds_.size().norm(), geometry_.characteristicLength());
 
@@ -125,9 +122,9 @@ FrameContent Animation::content(int frame) const {
   out.pose = poses_[frame];
   for (const scene::Surface& s : scene_.surfaces) out.surface_shift.push_back(surfaceTravel(s, beltDirection(s), t));
   const std::vector<ContactLoad> forces = source_.contactForces(t);
-  for (std::size_t c = 0; c < scene_.contacts.size() && c < forces.size(); ++c) {
-    const scene::Surface& s = scene_.surfaces[scene_.contacts[c].surface];
-    Eigen::Vector3d f = forces[c].world(s.normal, s.tangents()) * force_scale_;
+  for (std::size_t c = 0; c < out.pose.p_contact.size() && c < forces.size(); ++c) {
+    const contact::PlaneFrame<double>& frame = out.pose.contact_frame[c];
+    Eigen::Vector3d f = forces[c].world(frame.normal, frame.tangents) * force_scale_;
     const double longest = 0.6 * radius_;
     if (f.norm() > longest) f *= longest / f.norm();
     if (f.norm() > 0) out.arrows.push_back({out.pose.p_contact[c], f});
@@ -135,11 +132,10 @@ FrameContent Animation::content(int frame) const {
   const double lifetime = options_.marker_seconds * options_.speed;  // trajectory time
   for (const Impulse& impulse : source_.impulses()) {
     if (impulse.t > t || t >= impulse.t + lifetime) continue;
-    const scene::Contact& contact = scene_.contacts[impulse.contact];
-    const scene::Surface& s = scene_.surfaces[contact.surface];
     // where the contact point was at the impulse (positions are continuous there)
-    const Eigen::Vector3d p = geometry_.pose(source_.q(impulse.t)).p_contact[impulse.contact];
-    out.markers.push_back({p - s.gap(p) * s.normal, s.normal, 0.12 * radius_, (t - impulse.t) / lifetime});
+    const SceneGeometry::Pose at = geometry_.pose(source_.q(impulse.t));
+    const std::size_t c = static_cast<std::size_t>(impulse.contact);
+    out.markers.push_back({at.onPlane(c), at.contact_frame[c].normal, 0.12 * radius_, (t - impulse.t) / lifetime});
   }
   return out;
 }

@@ -9,6 +9,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/kinematics.hpp"
 
 namespace saltus::render {
@@ -129,6 +130,7 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
   } else {
     // Time-stepper rows: classify each step's impulse as an impact or a mean force (see header).
     dynamics::Data<double> data(model);
+    const std::vector<contact::ContactPair> pairs = contact::contactPairs(scene);  // contacts first
     std::vector<std::vector<Eigen::Vector3d>> v_point(rows.size(), std::vector<Eigen::Vector3d>(nc, Eigen::Vector3d::Zero()));
     if (have_v) {
       Eigen::VectorXd q(nq), v(nq);
@@ -138,8 +140,7 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
           v[k] = rows[i][v_col[k]];
         }
         dynamics::forwardKinematics(model, data, q, v);
-        for (int c = 0; c < nc; ++c)
-          v_point[i][c] = dynamics::pointVelocity(data, scene.contacts[c].body, scene.contacts[c].p_B);
+        for (int c = 0; c < nc; ++c) v_point[i][c] = contact::relativeVelocity(pairs[c], data);
       }
     }
     const double g = model.gravity.norm();

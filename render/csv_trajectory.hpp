@@ -12,7 +12,7 @@
 //    exactly 0 are points with no force variable, e.g. mesh points); impulses are the rows whose
 //    pn/pt are above max(1e-6 N s, 1e-3 × the largest impulse in the file).
 //  - no force columns (`saltus simulate`: pn/pt are the impulses over the step that ended at t):
-//    a step whose contact point changes velocity by more than 20 |g| Δt is an impact (no bounded
+//    a step whose contact changes relative velocity by more than 20 |g| Δt is an impact (no bounded
 //    force near that size would do it in one step) and its pn/pt is an impulse at the row's t;
 //    otherwise the step's mean force pn/Δt, pt/Δt is the force, held over the step (t − Δt, t].
 #pragma once

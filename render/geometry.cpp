@@ -150,13 +150,7 @@ Eigen::Vector3d beltDirection(const scene::Surface& surface) {
 }
 
 double surfaceTravel(const scene::Surface& surface, const Eigen::Vector3d& direction, double t) {
-  const auto& steps = surface.velocity_schedule;
-  double travel = 0;
-  for (std::size_t k = 0; k < steps.size() && steps[k].time < t; ++k) {
-    const double end = k + 1 < steps.size() ? std::min(t, steps[k + 1].time) : t;
-    travel += steps[k].velocity.dot(direction) * (end - steps[k].time);
-  }
-  return travel;
+  return direction.dot(surface.displacement(t));
 }
 
 bool loadMeshFile(const std::string& path, Mesh& mesh, std::string* why) {
@@ -198,6 +192,8 @@ int SceneGeometry::addMesh(Mesh mesh) {
 
 SceneGeometry::SceneGeometry(const scene::Scene& scene, std::ostream& warnings)
     : scene_(&scene), data_(std::make_unique<dynamics::Data<double>>(scene.model)) {
+  pairs_ = contact::contactPairs(scene);
+  pairs_.resize(scene.contacts.size());  // the stops come after the contacts
   const dynamics::Model<double>& model = scene.model;
   const int sphere = addMesh(sphereMesh()), cylinder = addMesh(cylinderMesh()), box = addMesh(boxMesh());
   const int nb = model.nbodies();
@@ -332,7 +328,10 @@ SceneGeometry::Pose SceneGeometry::pose(const Eigen::VectorXd& q) const {
     X_WB.translation() = dynamics::bodyPosition(*data_, s.body);
     out.X_WG.push_back(X_WB * s.X_BG);
   }
-  for (const scene::Contact& c : scene_->contacts) out.p_contact.push_back(dynamics::pointPosition(*data_, c.body, c.p_B));
+  for (const contact::ContactPair& pair : pairs_) {
+    out.p_contact.push_back(contact::contactPoint(pair, *data_));
+    out.contact_frame.push_back(contact::planeFrame(pair, *data_));
+  }
   return out;
 }
 

@@ -18,6 +18,7 @@
 
 #include <Eigen/Geometry>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/data.hpp"
 #include "render/camera.hpp"
 #include "scene/scene.hpp"
@@ -58,10 +59,17 @@ class SceneGeometry {
   const std::vector<Mesh>& meshes() const { return meshes_; }
   const std::vector<Shape>& shapes() const { return shapes_; }
 
-  // World poses of the shapes (without scale) and of the scene contacts' points at q.
+  // World poses of the shapes (without scale), and per scene contact its point and its plane's
+  // frame at q (the contact layer's: a plane on a body moves with it).
   struct Pose {
     std::vector<Eigen::Isometry3d> X_WG;
     std::vector<Eigen::Vector3d> p_contact;
+    std::vector<contact::PlaneFrame<double>> contact_frame;
+    // The contact point projected onto its plane, and its world vector of a load in that frame.
+    Eigen::Vector3d onPlane(std::size_t c) const {
+      const contact::PlaneFrame<double>& f = contact_frame[c];
+      return p_contact[c] - f.normal.dot(p_contact[c] - f.point) * f.normal;
+    }
   };
   Pose pose(const Eigen::VectorXd& q) const;
   // Bounding box of the posed shapes (and contact points).
@@ -76,13 +84,14 @@ class SceneGeometry {
   std::vector<Shape> shapes_;
   double length_ = 0.05;
   std::unique_ptr<dynamics::Data<double>> data_;
+  std::vector<contact::ContactPair> pairs_;  // the scene's contacts (its stops are not drawn)
 };
 
 // The direction a surface's material moves along: its first non-zero scheduled velocity,
 // projected onto the plane and normalised; zero when it never moves (then it is not a belt).
 Eigen::Vector3d beltDirection(const scene::Surface& surface);
-// How far the material has travelled along `direction` by time t [m]: ∫ v(τ)·direction dτ
-// over the piecewise-constant velocity schedule (zero before its first step).
+// How far the material has travelled along `direction` by time t [m]: direction ·
+// Surface::displacement(t).
 double surfaceTravel(const scene::Surface& surface, const Eigen::Vector3d& direction, double t);
 
 // Reads a mesh file through assimp (triangulated, vertices in the file's root frame). Returns

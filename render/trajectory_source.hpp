@@ -11,8 +11,9 @@
 
 namespace saltus::render {
 
-// A force or impulse on the body at a contact, in the surface's frame (n, t1, t2) of
-// scene::Surface::tangents(): world vector = normal n + tangent(0) t1 + tangent(1) t2.
+// A force or impulse on the body at a contact (on body A of the pair; its opposite acts on B), in
+// the contact layer's frame of the pair's plane (n, t1, t2) (contact::planeFrame): world vector =
+// normal n + tangent(0) t1 + tangent(1) t2.
 struct ContactLoad {
   double normal = 0;
   Eigen::Vector2d tangent = Eigen::Vector2d::Zero();

@@ -44,8 +44,11 @@ class Loader {
  private:
   Model<double> readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
                           const YAML::Node& base_node);
-  Model<double> readPointMass(const YAML::Node& node, const std::string& path, BaseType base,
-                              const Eigen::Vector3d& gravity, const YAML::Node& base_node);
+  void addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node, const std::string& path,
+                    std::set<std::string>& names);
+  // One point mass (a map) or several (a list), each on its own axes from the world.
+  Model<double> readPointMasses(const YAML::Node& node, const std::string& path, BaseType base,
+                                const Eigen::Vector3d& gravity, const YAML::Node& base_node);
   Model<double> readRigidBody(const YAML::Node& node, const std::string& path, BaseType base,
                               const Eigen::Vector3d& gravity, const YAML::Node& base_node);
   std::vector<dynamics::Visual> readVisuals(const YAML::Node& node, const std::string& path,
@@ -55,6 +58,8 @@ class Loader {
   int coordinate(const YAML::Node& name_node, const std::string& path, const Model<double>& model) const;
   std::vector<Surface> readSurfaces(const YAML::Node& node);
   std::vector<Contact> readContacts(const YAML::Node& node, const Scene& scene);
+  BodyPlane readBodyPlane(const YAML::Node& node, const std::string& path, const Scene& scene,
+                          const std::vector<std::string>& frame_names);
   std::vector<LimitStop> readLimits(const YAML::Node& root, const Model<double>& model);
 
   YamlReader& r_;
@@ -100,31 +105,30 @@ std::vector<dynamics::Visual> Loader::readVisuals(const YAML::Node& node, const 
   return visuals;
 }
 
-// A point mass on a chain of prismatic coordinates, one per axis (world axes), through massless
-// intermediate links named <link>_<coordinate>.
-Model<double> Loader::readPointMass(const YAML::Node& node, const std::string& path, BaseType base,
-                                    const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
+// A point mass on a chain of prismatic coordinates from the world, one per axis (world axes),
+// through massless intermediate links named <link>_<coordinate>; added to `b`.
+void Loader::addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node, const std::string& path,
+                          std::set<std::string>& names) {
   r_.checkMap(node, path, {"mass", "axes", "link", "visuals"});
-  if (base != BaseType::Fixed)
-    r_.fail(base_node, "base", "a point_mass model moves along its own axes from the world: base must be fixed");
   const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
   if (!(mass > 0)) r_.fail(node["mass"], keyPath(path, "mass"), "mass must be positive, got " + fmt(mass));
   const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : "mass";
   if (link == "world") r_.fail(node["link"], keyPath(path, "link"), "'world' is the name of the fixed frame");
+  if (!names.insert("link " + link).second)
+    r_.fail(node["link"].IsDefined() ? node["link"] : node, keyPath(path, "link"),
+            "link '" + link + "' is used twice (give each point mass a distinct link)");
   const YAML::Node axes = r_.required(node, path, "axes");
   const std::string apath = keyPath(path, "axes");
   r_.checkNameMap(axes, apath);
   if (axes.size() == 0 || axes.size() > 3) r_.fail(axes, apath, "expected 1 to 3 coordinates (name: axis)");
-
-  dynamics::ModelBuilder b("point_mass");
-  b.setSource(r_.file());
-  b.addLink("world");
   Eigen::Matrix3d span = Eigen::Matrix3d::Zero();
   std::string parent = "world";
   int i = 0;
   for (auto it = axes.begin(); it != axes.end(); ++it, ++i) {
     const std::string name = it->first.Scalar();
     const std::string p = keyPath(apath, name);
+    if (!names.insert("coordinate " + name).second)
+      r_.fail(it->first, p, "coordinate '" + name + "' is used twice (give each point mass's coordinates distinct names)");
     const Eigen::Vector3d a = r_.vec3(it->second, p);
     if (!(a.norm() > 1e-12)) r_.fail(it->second, p, "an axis must be a non-zero vector");
     span.col(i) = a.normalized();
@@ -147,6 +151,22 @@ Model<double> Loader::readPointMass(const YAML::Node& node, const std::string& p
     parent = child;
   }
   for (dynamics::Visual v : readVisuals(node["visuals"], keyPath(path, "visuals"), link, -1)) b.addVisual(link, v);
+}
+
+Model<double> Loader::readPointMasses(const YAML::Node& node, const std::string& path, BaseType base,
+                                      const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
+  if (base != BaseType::Fixed)
+    r_.fail(base_node, "base", "point masses move along their own axes from the world: base must be fixed");
+  dynamics::ModelBuilder b(node.IsSequence() ? "point_masses" : "point_mass");
+  b.setSource(r_.file());
+  b.addLink("world");
+  std::set<std::string> names;  // links and coordinates so far
+  if (node.IsSequence()) {
+    if (node.size() == 0) r_.fail(node, path, "expected a list of at least one point mass");
+    for (std::size_t i = 0; i < node.size(); ++i) addPointMass(b, node[i], indexPath(path, i), names);
+  } else {
+    addPointMass(b, node, path, names);
+  }
   try {
     return b.build(BaseType::Fixed, gravity);
   } catch (const dynamics::ModelError& e) {  // e.g. a link name clashing with an intermediate link
@@ -190,16 +210,20 @@ Model<double> Loader::readRigidBody(const YAML::Node& node, const std::string& p
 
 Model<double> Loader::readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
                                 const YAML::Node& base_node) {
-  r_.checkMap(node, "model", {"urdf", "point_mass", "rigid_body"});
-  if (node.size() == 0) r_.fail(node, "model", "expected exactly one of: urdf, point_mass, rigid_body");
+  r_.checkMap(node, "model", {"urdf", "point_mass", "point_masses", "rigid_body"});
+  if (node.size() == 0) r_.fail(node, "model", "expected exactly one of: urdf, point_mass, point_masses, rigid_body");
   if (node.size() > 1) {
     auto second = std::next(node.begin());
     r_.fail(second->first, keyPath("model", second->first.Scalar()),
-         "expected exactly one of: urdf, point_mass, rigid_body ('" + node.begin()->first.Scalar() +
+         "expected exactly one of: urdf, point_mass, point_masses, rigid_body ('" + node.begin()->first.Scalar() +
              "' is already given)");
   }
   if (node["point_mass"].IsDefined())
-    return readPointMass(node["point_mass"], "model.point_mass", base, gravity, base_node);
+    return readPointMasses(node["point_mass"], "model.point_mass", base, gravity, base_node);
+  if (node["point_masses"].IsDefined()) {
+    r_.checkSequence(node["point_masses"], "model.point_masses");
+    return readPointMasses(node["point_masses"], "model.point_masses", base, gravity, base_node);
+  }
   if (node["rigid_body"].IsDefined())
     return readRigidBody(node["rigid_body"], "model.rigid_body", base, gravity, base_node);
   const YAML::Node u = node["urdf"];
@@ -296,6 +320,35 @@ bool isPlanar(const Model<double>& model) {
   return true;
 }
 
+BodyPlane Loader::readBodyPlane(const YAML::Node& node, const std::string& path, const Scene& scene,
+                                const std::vector<std::string>& frame_names) {
+  r_.checkMap(node, path, {"link", "point", "normal", "extent"});
+  BodyPlane plane;
+  const YAML::Node link = r_.required(node, path, "link");
+  plane.link = r_.text(link, keyPath(path, "link"));
+  const int f = scene.model.frameIndex(plane.link);
+  if (f < 0)
+    r_.fail(link, keyPath(path, "link"), "unknown link '" + plane.link + "'" + suggestion(plane.link, frame_names) +
+                                             "; the model's links are: " + joinNames(frame_names));
+  const dynamics::Frame& frame = scene.model.frames[f];
+  if (frame.body < 0)
+    r_.fail(link, keyPath(path, "link"), "link '" + plane.link + "' is fixed to the world: give the plane as a surface");
+  plane.body = frame.body;
+  const Eigen::Vector3d n = r_.vec3(node, path, "normal", Eigen::Vector3d::UnitZ());
+  if (!(n.norm() > 1e-12))
+    r_.fail(node["normal"], keyPath(path, "normal"), "the normal must be a non-zero vector, got " + fmt(n));
+  plane.normal = frame.R_BF * n.normalized();
+  plane.tangents = frame.R_BF * planeTangents(n.normalized());
+  plane.point = frame.R_BF * r_.vec3(node, path, "point", Eigen::Vector3d::Zero()) + frame.p_BF;
+  const YAML::Node extent = r_.required(node, path, "extent");
+  plane.extent = r_.vector(extent, keyPath(path, "extent"), 2);
+  if (!(plane.extent.minCoeff() > 0))
+    r_.fail(extent, keyPath(path, "extent"),
+            "the half-lengths along the plane's two tangents must be positive, got [" + fmt(plane.extent[0]) + ", " +
+                fmt(plane.extent[1]) + "] m");
+  return plane;
+}
+
 std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& scene) {
   std::vector<Contact> contacts;
   if (!node.IsDefined()) return contacts;
@@ -307,7 +360,7 @@ std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& s
   for (std::size_t i = 0; i < node.size(); ++i) {
     const YAML::Node c = node[i];
     const std::string p = indexPath("contacts", i);
-    r_.checkMap(c, p, {"name", "link", "point", "surface", "restitution", "friction", "directions"});
+    r_.checkMap(c, p, {"name", "link", "point", "surface", "plane", "restitution", "friction", "directions"});
     Contact ct;
     const YAML::Node link = r_.required(c, p, "link");
     ct.link = r_.text(link, keyPath(p, "link"));
@@ -325,13 +378,28 @@ std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& s
     ct.body = frame.body;
     const Eigen::Vector3d point = r_.vec3(c, p, "point", Eigen::Vector3d::Zero());
     ct.p_B = frame.R_BF * point + frame.p_BF;
-    const YAML::Node surf = r_.required(c, p, "surface");
-    const std::string sname = r_.text(surf, keyPath(p, "surface"));
-    const auto s = std::find(surface_names.begin(), surface_names.end(), sname);
-    if (s == surface_names.end())
-      r_.fail(surf, keyPath(p, "surface"), "unknown surface '" + sname + "'" + suggestion(sname, surface_names) +
-                                            "; the scene's surfaces are: " + joinNames(surface_names));
-    ct.surface = static_cast<int>(s - surface_names.begin());
+    // Exactly one of: a world surface, or a plane on another body.
+    if (!c["surface"].IsDefined() && !c["plane"].IsDefined())
+      r_.fail(c, keyPath(p, "surface"),
+              "missing required key 'surface' (a world surface by name), or 'plane' (a plane on another body)");
+    if (c["surface"].IsDefined() && c["plane"].IsDefined())
+      r_.fail(c["plane"], keyPath(p, "plane"), "a contact touches either a world surface or a plane on a body: give "
+                                               "'surface' or 'plane', not both");
+    if (c["surface"].IsDefined()) {
+      const YAML::Node surf = c["surface"];
+      const std::string sname = r_.text(surf, keyPath(p, "surface"));
+      const auto s = std::find(surface_names.begin(), surface_names.end(), sname);
+      if (s == surface_names.end())
+        r_.fail(surf, keyPath(p, "surface"), "unknown surface '" + sname + "'" + suggestion(sname, surface_names) +
+                                              "; the scene's surfaces are: " + joinNames(surface_names));
+      ct.surface = static_cast<int>(s - surface_names.begin());
+    } else {
+      ct.surface = -1;
+      ct.plane = readBodyPlane(c["plane"], keyPath(p, "plane"), scene, frame_names);
+      if (ct.plane.body == ct.body)
+        r_.fail(c["plane"], keyPath(p, "plane"), "the plane is on the same body as the point (link '" +
+                                                    ct.plane.link + "'): a body cannot touch itself");
+    }
     ct.restitution = r_.number(c, p, "restitution", 0.0);
     if (!(ct.restitution >= 0 && ct.restitution <= 1))
       r_.fail(c["restitution"], keyPath(p, "restitution"), "restitution must be in [0, 1], got " + fmt(ct.restitution));

@@ -3,6 +3,7 @@
 // C++; read by the time-stepper (stepper.hpp), the collocation transcription and the renderer.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -13,9 +14,33 @@
 
 namespace saltus::scene {
 
+// An orthonormal tangent basis (t1, t2) of a plane with unit normal n, in n's coordinates: t1 is
+// the x axis (else y) projected onto the plane, t2 = n × t1. For a world plane in a scene moving
+// in the x–z plane with a horizontal surface, t1 = x.
+inline Eigen::Matrix<double, 3, 2> planeTangents(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d a = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d t1 = (a - a.dot(n) * n).normalized();
+  Eigen::Matrix<double, 3, 2> T;
+  T << t1, n.cross(t1);
+  return T;
+}
+
+// The k unit directions of a polyhedral friction cone in a plane with tangents T = (t1, t2)
+// (paper eq. 11): ±t1 for k = 2, otherwise evenly spaced starting at t1.
+inline Eigen::Matrix3Xd coneDirections(const Eigen::Matrix<double, 3, 2>& T, int k) {
+  Eigen::Matrix3Xd d(3, k);
+  for (int j = 0; j < k; ++j) {
+    const double angle = 2 * std::numbers::pi * j / k;
+    d.col(j) = std::cos(angle) * T.col(0) + std::sin(angle) * T.col(1);
+  }
+  return d;
+}
+
 // A plane {x : n·(x − p) = 0} whose material moves tangentially with a prescribed velocity
 // schedule (a conveyor belt): velocity(t) = the last step's value with time ≤ t, zero before the
-// first. The velocity must be tangent to the plane.
+// first (a step at t acts from t on; velocityBefore(t) is the value just before it). The velocity
+// must be tangent to the plane. The gap of a point to the plane is the contact layer's
+// (contact::gap).
 struct Surface {
   std::string name;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -32,38 +57,52 @@ struct Surface {
       if (s.time <= t) v = s.velocity;
     return v;
   }
-  double gap(const Eigen::Vector3d& x) const { return normal.dot(x - point); }
-
-  // An orthonormal tangent basis (t1, t2): t1 is the world x axis (else y) projected onto the
-  // plane, t2 = n × t1. In a scene moving in the x–z plane with a horizontal surface, t1 = x.
-  Eigen::Matrix<double, 3, 2> tangents() const {
-    const Eigen::Vector3d a = std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d t1 = (a - a.dot(normal) * normal).normalized();
-    Eigen::Matrix<double, 3, 2> T;
-    T << t1, normal.cross(t1);
-    return T;
+  // v(t⁻): the last step's value with time < t.
+  Eigen::Vector3d velocityBefore(double t) const {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (const Step& s : velocity_schedule)
+      if (s.time < t) v = s.velocity;
+    return v;
   }
-  // The k unit directions of a polyhedral friction cone on this surface (paper eq. 11): ±t1 for
-  // k = 2, otherwise evenly spaced in the tangent plane starting at t1.
-  Eigen::Matrix3Xd coneDirections(int k) const {
-    const Eigen::Matrix<double, 3, 2> T = tangents();
-    Eigen::Matrix3Xd d(3, k);
-    for (int j = 0; j < k; ++j) {
-      const double angle = 2 * std::numbers::pi * j / k;
-      d.col(j) = std::cos(angle) * T.col(0) + std::sin(angle) * T.col(1);
+  // How far the material has moved from time 0 to t ≥ 0: ∫₀ᵗ velocity.
+  Eigen::Vector3d displacement(double t) const {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < velocity_schedule.size(); ++k) {
+      const double begin = std::max(velocity_schedule[k].time, 0.0);
+      const double end = k + 1 < velocity_schedule.size() ? std::min(velocity_schedule[k + 1].time, t) : t;
+      if (end > begin) d += velocity_schedule[k].velocity * (end - begin);
     }
     return d;
   }
+
+  Eigen::Matrix<double, 3, 2> tangents() const { return planeTangents(normal); }
+  Eigen::Matrix3Xd coneDirections(int k) const { return scene::coneDirections(tangents(), k); }
 };
 
-// A point fixed on a body touching a surface (unilateral normal, Coulomb friction with a
-// polyhedral cone of `directions` unit vectors in the tangent plane, Newton restitution).
+// A plane fixed in a body (a deck, a cart's top): a rectangle of half-lengths `extent` along its
+// tangents about `point`. Given in a link's frame, where the tangents are planeTangents(normal)
+// (the link's x axis projected onto the plane, then n × t1), and stored in the body's
+// coordinates. A point beyond the rectangle touches nothing.
+struct BodyPlane {
+  std::string link;  // URDF link (frame) the plane is given in
+  int body = -1;     // the body the plane moves with
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    // the rectangle's centre, body coordinates
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, body coordinates
+  Eigen::Matrix<double, 3, 2> tangents = planeTangents(Eigen::Vector3d::UnitZ());  // (t1, t2), body coordinates
+  Eigen::Vector2d extent = Eigen::Vector2d::Zero();   // half-lengths along t1, t2 [m]
+};
+
+// A point fixed on a body touching a world surface or a plane on another body (unilateral
+// normal, Coulomb friction with a polyhedral cone of `directions` unit vectors in the tangent
+// plane, Newton restitution). On a body's plane the reaction on the point's body has its
+// opposite on the plane's body.
 struct Contact {
   std::string name;
   std::string link;   // URDF link (frame) the point is given in
   int body = -1;      // body the point moves with
   Eigen::Vector3d p_B = Eigen::Vector3d::Zero();  // the point in body coordinates
-  int surface = 0;    // index into Scene::surfaces
+  int surface = 0;    // index into Scene::surfaces; −1: on `plane`
+  BodyPlane plane;    // when surface = −1
   double restitution = 0;
   double friction = 0;
   int directions = 0;  // k: 0 frictionless, 2 planar, ≥ 4 spatial

@@ -85,7 +85,6 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   v_free_.resize(nv);
   rhs_.resize(nv);
   tau_ = scene_.tau.size() == nv ? scene_.tau : Eigen::VectorXd::Zero(nv);
-  for (const Surface& s : scene_.surfaces) tangents_.push_back(s.tangents());
   J_point_.assign(pairs_.size(), Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, nv));
   active_.reserve(m_max);
   solved_active_.reserve(m_max);
@@ -155,6 +154,7 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
   m_ = f_ = 0;
   for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
     const contact::ContactPair& pair = pairs_[c];
+    if (!contact::withinExtent(pair, data_)) continue;  // beyond a body's plane: touches nothing
     const double gap = contact::gap(pair, data_, q_theta_.data());
     double vn_free, vn;
     Eigen::Vector3d normal;
@@ -290,7 +290,7 @@ void TimeStepper::project() {
   m_ = 0;
   active_.clear();
   for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
-    if (reports_[c].gap >= -options_.penetration_tolerance) continue;
+    if (reports_[c].gap >= -options_.penetration_tolerance || !reports_[c].over_plane) continue;
     contact::normalRow(model, data_, pairs_[c], J_.row(m_));
     b_[m_++] = reports_[c].gap;
     active_.push_back(c);
@@ -322,7 +322,7 @@ bool TimeStepper::measureContacts() {
     ContactReport& r = reports_[c];
     r.gap = contact::gap(pair, data_, q_.data());
     if (pair.isStop()) {
-      r.vn = contact::normalVelocity(pair, data_, v_.data(), Eigen::Vector3d::Zero().eval());
+      r.vn = contact::normalVelocity(pair, data_, v_.data());
     } else {
       const contact::PlaneFrame<double> f = contact::planeFrame(pair, data_);
       const Eigen::Vector3d v_rel = contact::relativeVelocity(pair, data_, surfaceVelocity(pair, t_));
@@ -330,6 +330,8 @@ bool TimeStepper::measureContacts() {
       r.vt1 = f.tangents.col(0).dot(v_rel);
       r.vt2 = f.tangents.col(1).dot(v_rel);
     }
+    r.over_plane = contact::withinExtent(pair, data_);
+    if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;
     stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
   }

@@ -112,6 +112,7 @@ class SimulationError : public std::runtime_error {
 // over the step). Tangential quantities are in the surface's basis (t1, t2).
 struct ContactReport {
   bool active = false;
+  bool over_plane = true;  // the point is over its plane's extent (always, on a world surface or a stop)
   double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
 };
 
@@ -150,8 +151,6 @@ class TimeStepper {
   const StepperStats& stats() const { return stats_; }
   // Kinetic plus gravitational potential energy of the current state.
   double energy();
-  // Tangent basis (t1, t2) used for a surface's contacts.
-  const Eigen::Matrix<double, 3, 2>& tangentBasis(int surface) const { return tangents_[surface]; }
 
  private:
   void linearise(double h);
@@ -172,7 +171,6 @@ class TimeStepper {
   double t_ = 0;
   Eigen::VectorXd q_, v_, q_theta_, v_theta_, v_free_, rhs_, tau_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  std::vector<Eigen::Matrix<double, 3, 2>> tangents_;
   std::vector<contact::ContactPair> pairs_;  // the contact layer's pairs: scene contacts, then limit stops
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per pair: its relative Jacobian, 3 × nv
   // Active rows: normal rows first (contacts then limits), then the friction rows.

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/dynamics.hpp"
 
 namespace saltus::timestepper::exact {
@@ -137,51 +138,33 @@ Eigen::Vector2d solve2(const Eigen::Matrix2d& A, const Eigen::Vector2d& b) {
 
 BeltStickingMotion::BeltStickingMotion(const scene::Scene& scene)
     : scene_(checkedBeltScene(scene)),
-      contact_(scene_.contacts[0]),
-      surface_(scene_.surfaces[contact_.surface]),
+      pair_(contact::contactPairs(scene_).front()),
+      surface_(scene_.surfaces[pair_.surface]),
       t1_(surface_.tangents().col(0)),
       data_(scene_.model) {
   dynamics::forwardKinematics(scene_.model, data_, scene_.q0);
-  p0_ = dynamics::pointPosition(data_, contact_.body, contact_.p_B);
-  const double gap = surface_.gap(p0_);
+  p0_ = contact::contactPoint(pair_, data_);
+  const double gap = contact::gap(pair_, data_, scene_.q0.data());
   if (std::abs(gap) > 1e-9)
     throw std::invalid_argument("scene '" + scene_.name + "': the contact point must start on the surface (gap " +
                                 std::to_string(gap) + " m)");
   Eigen::Matrix3Xd J(3, 2);
-  dynamics::pointJacobian(scene_.model, data_, contact_.body, contact_.p_B, J);
+  contact::relativeJacobian(scene_.model, data_, pair_, J);
   if (J.row(1).norm() > 1e-12)  // y: the mechanism must move in the x–z plane
     throw std::invalid_argument("scene '" + scene_.name + "': the contact point leaves the x-z plane");
-}
-
-Eigen::Vector3d BeltStickingMotion::beltDisplacement(double t) const {
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  const auto& steps = surface_.velocity_schedule;
-  for (std::size_t k = 0; k < steps.size(); ++k) {
-    const double t0 = std::max(steps[k].time, 0.0);
-    const double t1 = k + 1 < steps.size() ? std::min(steps[k + 1].time, t) : t;
-    if (t1 > t0) d += steps[k].velocity * (t1 - t0);
-  }
-  return d;
-}
-
-Eigen::Vector3d BeltStickingMotion::beltVelocityBefore(double t) const {
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  for (const scene::Surface::Step& s : surface_.velocity_schedule)
-    if (s.time < t) v = s.velocity;
-  return v;
 }
 
 Eigen::Matrix2d BeltStickingMotion::constraintRows(const Eigen::VectorXd& q) const {
   dynamics::forwardKinematics(scene_.model, data_, q);
   Eigen::Matrix3Xd J(3, 2);
-  dynamics::pointJacobian(scene_.model, data_, contact_.body, contact_.p_B, J);
+  contact::relativeJacobian(scene_.model, data_, pair_, J);
   Eigen::Matrix2d A;
   A << t1_.transpose() * J, surface_.normal.transpose() * J;
   return A;
 }
 
 Eigen::VectorXd BeltStickingMotion::positionsAt(double t) const {
-  const Eigen::Vector3d d = beltDisplacement(t);
+  const Eigen::Vector3d d = surface_.displacement(t);
   // Continuation from q0 in belt moves of at most 5 mm keeps Newton on the initial branch.
   const int moves = std::max(1, static_cast<int>(std::ceil(d.norm() / 5e-3)));
   Eigen::VectorXd q = scene_.q0;
@@ -190,7 +173,7 @@ Eigen::VectorXd BeltStickingMotion::positionsAt(double t) const {
     bool converged = false;
     for (int it = 0; it < 50 && !converged; ++it) {
       const Eigen::Matrix2d A = constraintRows(q);  // leaves the kinematics at q
-      const Eigen::Vector3d r = target - dynamics::pointPosition(data_, contact_.body, contact_.p_B);
+      const Eigen::Vector3d r = target - contact::contactPoint(pair_, data_);
       const Eigen::Vector2d r2(t1_.dot(r), surface_.normal.dot(r));
       converged = r2.norm() < 1e-13;
       if (!converged) {
@@ -220,7 +203,7 @@ Eigen::Vector2d BeltStickingMotion::contactForce(double t) const {
   const Eigen::VectorXd q = x.head(2), v = x.tail(2);
   const dynamics::Model<double>& model = scene_.model;
   dynamics::forwardKinematics(model, data_, q, v);
-  const Eigen::Vector3d bias = dynamics::pointAccelerationBias(data_, contact_.body, contact_.p_B);  // J̇ q̇
+  const Eigen::Vector3d bias = dynamics::pointAccelerationBias(data_, pair_.body_a, pair_.point_A);  // J̇ q̇ (a world plane)
   const Eigen::Matrix2d A = constraintRows(q);
   const Eigen::Vector2d qdd = -solve2(A, Eigen::Vector2d(t1_.dot(bias), surface_.normal.dot(bias)));
   const Eigen::MatrixXd M = dynamics::crba(model, data_, q);
@@ -232,21 +215,21 @@ Eigen::Vector2d BeltStickingMotion::contactForce(double t) const {
 Eigen::Vector2d BeltStickingMotion::stepImpulse(double t_step) const {
   const Eigen::VectorXd q = positionsAt(t_step);
   const Eigen::Matrix2d A = constraintRows(q);
-  const Eigen::Vector2d dv_point(t1_.dot(surface_.velocity(t_step) - beltVelocityBefore(t_step)), 0.0);
+  const Eigen::Vector2d dv_point(t1_.dot(surface_.velocity(t_step) - surface_.velocityBefore(t_step)), 0.0);
   const Eigen::Vector2d dqd = solve2(A, dv_point);
   const Eigen::MatrixXd M = dynamics::crba(scene_.model, data_, q);
   return solve2(A.transpose(), M * dqd);
 }
 
 bool BeltStickingMotion::insideCone(const Eigen::Vector2d& f) const {
-  return f[1] >= 0 && std::abs(f[0]) <= contact_.friction * f[1];
+  return f[1] >= 0 && std::abs(f[0]) <= pair_.friction * f[1];
 }
 
 double BeltStickingMotion::stickEnd(double t_max, double check_dt) const {
   // The belt steps within [0, t_max] (an impulse each), then the forces between them.
   std::vector<double> steps;
   for (const scene::Surface::Step& s : surface_.velocity_schedule)
-    if (s.time >= 0 && s.time <= t_max && (surface_.velocity(s.time) - beltVelocityBefore(s.time)).norm() > 0)
+    if (s.time >= 0 && s.time <= t_max && (surface_.velocity(s.time) - surface_.velocityBefore(s.time)).norm() > 0)
       steps.push_back(s.time);
   const auto violated = [&](double t) { return !insideCone(contactForce(t)); };
   double t_prev = 0;

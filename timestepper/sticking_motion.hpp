@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "contact/pair.hpp"
 #include "dynamics/data.hpp"
 #include "scene/scene.hpp"
 
@@ -93,15 +94,12 @@ class BeltStickingMotion {
   double stickEnd(double t_max, double check_dt = 1e-3) const;
 
  private:
-  Eigen::Vector3d beltDisplacement(double t) const;
   Eigen::VectorXd positionsAt(double t) const;
   Eigen::Matrix2d constraintRows(const Eigen::VectorXd& q) const;  // A(q); leaves kinematics at q
   bool insideCone(const Eigen::Vector2d& f) const;
 
-  Eigen::Vector3d beltVelocityBefore(double t) const;  // v_belt(t⁻)
-
   scene::Scene scene_;  // a copy, so the motion does not depend on the caller's
-  const scene::Contact& contact_;
+  contact::ContactPair pair_;  // the contact (the contact layer's kinematics)
   const scene::Surface& surface_;
   Eigen::Vector3d t1_, p0_;  // belt tangent along the motion; the point's position at t = 0
   mutable dynamics::Data<double> data_;

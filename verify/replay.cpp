@@ -172,7 +172,7 @@ class ContactKinematics {
     v_ = v;
   }
   double gap(int c) const { return contact::gap(pairs_[c], data_, q_.data()); }
-  double vn(int c) const { return contact::normalVelocity(pairs_[c], data_, v_.data(), Eigen::Vector3d::Zero().eval()); }
+  double vn(int c) const { return contact::normalVelocity(pairs_[c], data_, v_.data()); }
   double energy() const { return dynamics::kineticEnergy(model_, data_) + dynamics::potentialEnergy(model_, data_); }
 
  private:

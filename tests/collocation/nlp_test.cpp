@@ -92,6 +92,14 @@ TEST(NlpDerivatives, ConveyorFirstOrder) {
   checkDerivatives(p, Method::FirstOrder);
 }
 
+// A point against a plane on a turning body: the contact frame's derivatives enter every
+// contact row (equations of motion, gap, slip, restitution).
+TEST(NlpDerivatives, BallOnPaddleImpulsive) { checkDerivatives(testing::ballOnPaddleProblem(0.4, 0.5), Method::Impulsive); }
+TEST(NlpDerivatives, BallOnPaddleContinuous) { checkDerivatives(testing::ballOnPaddleProblem(0.0, 0.5), Method::Continuous); }
+TEST(NlpDerivatives, BallOnPaddleFirstOrder) {
+  checkDerivatives(testing::ballOnPaddleProblem(0.0, 0.5, 1, 3), Method::FirstOrder);
+}
+
 TEST(Transcription, ContinuousRefusesRestitution) {
   try {
     Transcription t(testing::pointMassDrop(0.5), Method::Continuous);

@@ -16,6 +16,7 @@
 #include <functional>
 #include <numbers>
 
+#include "contact/kinematics.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "scene/yaml_reader.hpp"
@@ -55,8 +56,7 @@ int lineOf(const std::string& path, const std::string& text) {
 double gap(const scene::Scene& s, int i, const Eigen::VectorXd& q) {
   dynamics::Data<double> data(s.model);
   dynamics::forwardKinematics(s.model, data, q);
-  const scene::Contact& c = s.contacts[i];
-  return s.surfaces[c.surface].gap(dynamics::pointPosition(data, c.body, Eigen::Vector3d(c.p_B)));
+  return contact::gap(contact::contactPairs(s).at(i), data, q.data());
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -43,7 +43,8 @@ Eigen::Vector3d contactPosition(const Scene& s, int i, const Eigen::VectorXd& q)
   return dynamics::pointPosition(data, s.contacts[i].body, Eigen::Vector3d(s.contacts[i].p_B));
 }
 double gap(const Scene& s, int i, const Eigen::VectorXd& q) {
-  return s.surfaces[s.contacts[i].surface].gap(contactPosition(s, i, q));
+  const Surface& surface = s.surfaces[s.contacts[i].surface];  // the plane's signed distance, by hand
+  return surface.normal.dot(contactPosition(s, i, q) - surface.point);
 }
 // World position of a frame (URDF link) at q.
 Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Eigen::VectorXd& q) {
@@ -59,12 +60,14 @@ Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Ei
 
 TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
-            (std::vector<std::string>{"ball_drop", "block_slide", "painleve_rod", "pendulum_conveyor"}));
+            (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "painleve_rod",
+                                      "pendulum_conveyor"}));
 }
 
 TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
   const std::map<std::string, std::pair<int, int>> expected = {
-      {"ball_drop", {1, 1}}, {"block_slide", {2, 1}}, {"pendulum_conveyor", {2, 1}}, {"painleve_rod", {3, 1}}};
+      {"ball_drop", {1, 1}},         {"block_slide", {2, 1}},   {"pendulum_conveyor", {2, 1}},
+      {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -77,12 +80,43 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_EQ(s.q0.size(), s.model.nv());
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
-    EXPECT_TRUE(s.tau.isZero());
+    EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled
     EXPECT_TRUE(s.limits.empty());
     EXPECT_GT(s.duration, 0);
     EXPECT_FALSE(s.model.visuals.empty());
     for (const Surface& surf : s.surfaces) EXPECT_NEAR(surf.normal.norm(), 1.0, 1e-15);
   }
+}
+
+// Point masses on their own axes, and a contact on a plane fixed in another body.
+TEST(Scenario, BlockOnCartTouchesAPlaneOnTheCart) {
+  const Scene s = loadScene("block_on_cart", {{"deck", 0.7}});
+  ASSERT_EQ(s.model.nv(), 3);
+  EXPECT_EQ(s.model.coordinate_name, (std::vector<std::string>{"cart_x", "block_x", "block_z"}));
+  EXPECT_DOUBLE_EQ(s.model.totalMass(), 5.0);
+  EXPECT_DOUBLE_EQ(s.tau[0], 30.0);
+  ASSERT_EQ(s.contacts.size(), 1u);
+  const Contact& c = s.contacts[0];
+  EXPECT_EQ(c.surface, -1);
+  EXPECT_EQ(c.plane.link, "cart");
+  EXPECT_EQ(c.plane.body, s.model.frames[s.model.frameIndex("cart")].body);
+  EXPECT_EQ(c.body, s.model.frames[s.model.frameIndex("block")].body);
+  EXPECT_NE(c.plane.body, c.body);
+  EXPECT_EQ(c.plane.extent, Eigen::Vector2d(0.7, 0.2));
+  EXPECT_EQ(c.plane.normal, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(c.plane.tangents.col(0), Eigen::Vector3d::UnitX());  // the link's x projected onto the plane
+  EXPECT_EQ(c.directions, 2);
+}
+
+TEST(Scenario, BlockOnSlabStartsAtItsDropHeight) {
+  const Scene s = loadScene("block_on_slab", {{"height", 0.4}, {"slab_height", 0.2}});
+  ASSERT_EQ(s.model.nv(), 2);
+  EXPECT_DOUBLE_EQ(s.q0[0], 0.2);              // slab_z
+  EXPECT_DOUBLE_EQ(s.q0[1], 0.2 + 0.1 + 0.4);  // block_z: on top of the slab plus the drop
+  EXPECT_EQ(s.contacts[0].surface, 0);
+  EXPECT_EQ(s.contacts[1].surface, -1);
+  EXPECT_EQ(s.contacts[1].plane.point, Eigen::Vector3d(0, 0, 0.1));
+  EXPECT_DOUBLE_EQ(s.contacts[1].restitution, 0.5);
 }
 
 TEST(Scenario, LoadByPathKeepsThePathAsSource) {
@@ -349,7 +383,7 @@ TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
   const std::string what = errorOf([] { loadScene("ball_dorp"); });
   EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
   EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
-  EXPECT_TRUE(contains(what, "ball_drop, block_slide, painleve_rod, pendulum_conveyor")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, painleve_rod, pendulum_conveyor")) << what;
 }
 
 TEST(Scenario, MissingFile) {
@@ -399,6 +433,21 @@ TEST(ScenarioErrors, DuplicateKey) {
 }
 TEST(ScenarioErrors, MissingKey) {
   expectError("missing_key.yaml", "contacts[0].surface", {"missing required key 'surface'"});
+}
+TEST(ScenarioErrors, PlaneOnThePointsOwnBody) {
+  expectError("plane_same_body.yaml", "contacts[0].plane", {"same body as the point", "cannot touch itself"});
+}
+TEST(ScenarioErrors, PlaneWithoutExtent) {
+  expectError("plane_bad_extent.yaml", "contacts[0].plane.extent", {"half-lengths", "must be positive"});
+}
+TEST(ScenarioErrors, PlaneAndSurfaceBoth) {
+  expectError("plane_and_surface.yaml", "contacts[0].plane", {"not both"});
+}
+TEST(ScenarioErrors, PlaneOnAnUnknownLink) {
+  expectError("plane_unknown_link.yaml", "contacts[0].plane.link", {"unknown link 'slab_top'", "the model's links are: "});
+}
+TEST(ScenarioErrors, PointMassesShareACoordinateName) {
+  expectError("point_masses_same_coordinate.yaml", "model.point_masses[1].axes.z", {"coordinate 'z' is used twice"});
 }
 TEST(ScenarioErrors, MissingModel) {
   expectError("missing_model.yaml", "model", {"missing required key 'model'"});
@@ -467,7 +516,7 @@ TEST(ScenarioErrors, UnknownBase) {
   expectError("unknown_base.yaml", "base", {"floating", "fixed", "planar", "free"});
 }
 TEST(ScenarioErrors, TwoModels) {
-  expectError("two_models.yaml", "model.point_mass", {"exactly one of: urdf, point_mass, rigid_body"});
+  expectError("two_models.yaml", "model.point_mass", {"exactly one of: urdf, point_mass, point_masses, rigid_body"});
 }
 
 }  // namespace

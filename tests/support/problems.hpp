@@ -35,4 +35,18 @@ inline collocation::Problem pendulumConveyor(double mu = 2.0, double belt_speed 
   return p;
 }
 
+// A ball dropped onto a paddle that turns about the y axis (tests/support/scenes.hpp): contact
+// between two moving bodies, the plane's frame turning with q.
+inline collocation::Problem ballOnPaddleProblem(double e, double mu, int N = 3, int P = 3) {
+  collocation::Problem p;
+  p.name = "ball_on_paddle";
+  p.scene = testing::ballOnPaddle(e, mu);
+  p.N = N;
+  p.P = P;
+  p.h_max = 0.05;
+  p.total_time_kind = collocation::TotalTime::AtLeast;
+  p.total_time = 0.1;
+  return p;
+}
+
 }  // namespace saltus::testing

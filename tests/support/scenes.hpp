@@ -106,6 +106,46 @@ inline scene::Scene particle3d(const Eigen::Vector2d& velocity, double mu, int k
   return s;
 }
 
+// A point mass (x, z) on a paddle that turns about the world y axis through the origin: a point
+// against a plane fixed in a rotating body, so the plane's normal and tangents depend on q. The
+// paddle is a thin bar along its x (inertia about y `paddle_inertia`); the ball starts `height`
+// above its surface at x = `offset`.
+inline scene::Scene ballOnPaddle(double e, double mu, double height = 0.1, double offset = 0.2,
+                                 double paddle_inertia = 0.05) {
+  dynamics::ModelBuilder b("ball_on_paddle");
+  b.addLink("world");
+  b.addLink("paddle", 1.0, Eigen::Vector3d::Zero(), Eigen::Vector3d(1e-3, paddle_inertia, paddle_inertia).asDiagonal());
+  b.addLink("ball_x");
+  b.addLink("ball", 0.5, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
+  auto joint = [&](const char* name, dynamics::LinkJointType type, const char* parent, const char* child,
+                   const Eigen::Vector3d& axis) {
+    dynamics::JointSpec j;
+    j.name = name;
+    j.type = type;
+    j.parent = parent;
+    j.child = child;
+    j.axis = axis;
+    b.addJoint(j);
+  };
+  joint("paddle_angle", dynamics::LinkJointType::Revolute, "world", "paddle", Eigen::Vector3d::UnitY());
+  joint("x", dynamics::LinkJointType::Prismatic, "world", "ball_x", Eigen::Vector3d::UnitX());
+  joint("z", dynamics::LinkJointType::Prismatic, "ball_x", "ball", Eigen::Vector3d::UnitZ());
+  scene::Scene s;
+  s.name = "ball_on_paddle";
+  s.model = b.build();
+  scene::Contact c = contactAt(s.model, "ball", "ball", Eigen::Vector3d::Zero(), e, mu, mu > 0 ? 2 : 0);
+  c.surface = -1;
+  c.plane.link = "paddle";
+  c.plane.body = s.model.frames.at(s.model.frameIndex("paddle")).body;
+  c.plane.normal = Eigen::Vector3d::UnitZ();
+  c.plane.tangents = scene::planeTangents(c.plane.normal);
+  c.plane.extent = Eigen::Vector2d(1.0, 0.5);
+  s.contacts.push_back(c);
+  s.q0 = Eigen::Vector3d(0, offset, height);
+  s.v0 = Eigen::VectorXd::Zero(3);
+  return s;
+}
+
 // The paper's two-link pendulum (unit masses, 0.5 m links) with its tip resting on a belt at
 // θ1 = 0, θ2 = π/4; the belt steps from rest to `belt_speed` along +x at `step_time`.
 inline scene::Scene pendulumConveyor(double mu, double belt_speed, double step_time) {
