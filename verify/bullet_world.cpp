@@ -74,6 +74,29 @@ BulletWorldOptions BulletWorldOptions::bulletDefaults(double dt, BulletSolver so
   return o;
 }
 
+// Lets a pair collider meet its partner alone (the sphere its box, the box its sphere); leaves
+// the rest to the collision groups.
+class BulletWorld::PairFilter final : public btOverlapFilterCallback {
+ public:
+  PairFilter(const std::vector<std::unique_ptr<btMultiBodyLinkCollider>>& colliders, const std::vector<int>& pairs)
+      : colliders_(&colliders), pairs_(&pairs) {}
+  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+    const int pa = pairOf(a), pb = pairOf(b);
+    if (pa >= 0 || pb >= 0) return pa == pb;
+    return (a->m_collisionFilterGroup & b->m_collisionFilterMask) != 0 &&
+           (b->m_collisionFilterGroup & a->m_collisionFilterMask) != 0;
+  }
+
+ private:
+  int pairOf(const btBroadphaseProxy* proxy) const {  // the contact of a pair collider, else −1
+    for (std::size_t i = 0; i < colliders_->size(); ++i)
+      if ((*colliders_)[i].get() == proxy->m_clientObject) return (*pairs_)[i];
+    return -1;
+  }
+  const std::vector<std::unique_ptr<btMultiBodyLinkCollider>>* colliders_;
+  const std::vector<int>* pairs_;
+};
+
 BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
     : scene_(scene), pairs_(contact::contactPairs(scene)), options_(options), data_(scene.model) {
   if (!(options_.dt > 0) || !std::isfinite(options_.dt)) throw std::invalid_argument("BulletWorld: dt must be positive");
@@ -161,7 +184,7 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
   double max_friction = 0;
   const auto colliderOfLink = [&](int link) -> int {
     for (std::size_t i = 0; i < colliders_.size(); ++i)
-      if (collider_link_[i] == link) return static_cast<int>(i);
+      if (collider_link_[i] == link && collider_pair_[i] < 0) return static_cast<int>(i);
     auto compound = std::make_unique<btCompoundShape>();
     colliders_.push_back(std::make_unique<btMultiBodyLinkCollider>(mb, link));
     btMultiBodyLinkCollider* col = colliders_.back().get();
@@ -176,10 +199,17 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
     else
       mb->getLink(link).m_collider = col;
     collider_link_.push_back(link);
+    collider_pair_.push_back(-1);
     return static_cast<int>(colliders_.size()) - 1;
   };
   for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
     const scene::Contact& contact = scene_.contacts[c];
+    max_friction = std::max(max_friction, contact.friction);
+    if (contact.directions == 2) planar_cone_ = true;
+    if (contact.surface < 0) {  // on a body's plane: colliders of its own (addBodyPlanePair)
+      contact_child_.push_back({-1, -1});
+      continue;
+    }
     const int link = body_->linkOfBody(contact.body);
     const bool first_on_link =
         std::find(collider_link_.begin(), collider_link_.end(), link) == collider_link_.end();
@@ -199,12 +229,23 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
                                 fmt(col->getFriction()) + ", " + fmt(col->getRestitution()) +
                                 ") are used: Bullet has one material per link collider");
     }
-    max_friction = std::max(max_friction, contact.friction);
-    if (contact.directions == 2) planar_cone_ = true;
   }
   for (auto& col : colliders_)
     world_->addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
                                btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::DefaultFilter);
+  for (std::size_t c = 0; c < scene_.contacts.size(); ++c)
+    if (scene_.contacts[c].surface < 0) addBodyPlanePair(static_cast<int>(c), sphere);
+  if (std::any_of(collider_pair_.begin(), collider_pair_.end(), [](int p) { return p >= 0; })) {
+    // The pair colliders belong to the one multibody: Bullet only tests its colliders against each
+    // other with self-collision on; the filter then lets each pair's sphere meet its box alone.
+    mb->setHasSelfCollision(true);
+    filter_ = std::make_unique<PairFilter>(colliders_, collider_pair_);
+    world_->getPairCache()->setOverlapFilterCallback(filter_.get());
+    syncPairColliders();
+    approximations_.push_back(
+        "a plane on a body is the top face of a box on that body's link, moved back by the sphere radius, with the "
+        "plane's extent; a point passing its edge meets the edge rounded by the radius (" + fmt(r) + " m)");
+  }
   if (!scene_.contacts.empty())
     approximations_.push_back("contact points are spheres of radius " + fmt(r) +
                               " m centred at the point, against planes moved back by the radius: the gap is exact, "
@@ -284,6 +325,7 @@ void BulletWorld::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   btAlignedObjectArray<btVector3> local_origin;
   body_->multiBody()->forwardKinematics(world_to_local, local_origin);
   body_->multiBody()->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+  syncPairColliders();
   for (auto& c : colliders_) c->setInterpolationWorldTransform(c->getWorldTransform());
   // Forget the manifolds of the old state (their cached impulses and points).
   for (auto& c : colliders_) {
@@ -323,6 +365,7 @@ void BulletWorld::step(const Eigen::VectorXd& tau) {
   body_->setGeneralisedForces(q_, tau);
   placeBelts(t_ + h);
   world_->stepSimulation(h, 0, h);
+  syncPairColliders();
   t_ += h;
   ++stats_.steps;
   const Eigen::VectorXd q_prev = q_;
@@ -348,7 +391,8 @@ void BulletWorld::measure() {
     r.vt2 = f.tangents.col(1).dot(vrel);
     r.active = false;
     r.pn = r.pt1 = r.pt2 = 0;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+    if (contact::withinExtent(pair, data_))  // below a body's plane beyond its edge is no penetration
+      stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
   }
   // The stops Bullet enforces (limit_coordinate_): their penetration.
   for (std::size_t l = scene_.contacts.size(); l < pairs_.size(); ++l)
@@ -384,6 +428,82 @@ void BulletWorld::measure() {
         }
       }
     }
+  }
+}
+
+// A contact on a plane fixed in body B: a collider on A's link holding the contact's sphere, and
+// one on B's link holding a box whose top face is the plane moved back by the sphere radius (so
+// the sphere–box distance is the gap), as large as the plane's extent. Neither is its link's
+// m_collider, which Bullet moves with the link: syncPairColliders places them after every step.
+void BulletWorld::addBodyPlanePair(int c, btCollisionShape* sphere) {
+  const scene::Contact& contact = scene_.contacts[c];
+  const contact::ContactPair& pair = pairs_[c];
+  btMultiBody* mb = body_->multiBody();
+  const double r = options_.contact_radius;
+  const int link_a = body_->linkOfBody(pair.body_a), link_b = body_->linkOfBody(pair.body_b);
+  if ((link_a >= 0 && mb->getLink(link_a).m_parent == link_b) || (link_b >= 0 && mb->getLink(link_b).m_parent == link_a))
+    throw std::invalid_argument("BulletWorld: scene " + scene_.name + ": contact '" + contact.name +
+                                "' joins a link to its parent, which Bullet never collides");
+  auto add = [&](int link, std::unique_ptr<btCollisionShape> child, const btTransform& local) {
+    auto compound = std::make_unique<btCompoundShape>();
+    compound->addChildShape(local, child ? child.get() : sphere);
+    colliders_.push_back(std::make_unique<btMultiBodyLinkCollider>(mb, link));
+    btMultiBodyLinkCollider* col = colliders_.back().get();
+    col->setCollisionShape(compound.get());
+    shapes_.push_back(std::move(compound));
+    if (child) shapes_.push_back(std::move(child));
+    col->setFriction(1);
+    col->setRestitution(1);
+    col->setRollingFriction(0);
+    col->setSpinningFriction(0);
+    col->setContactProcessingThreshold(options_.contact_processing_threshold);
+    col->setActivationState(DISABLE_DEACTIVATION);
+    collider_link_.push_back(link);
+    collider_pair_.push_back(c);
+    world_->addCollisionObject(col, kPairGroup, kPairGroup);
+    return colliders_.back().get();
+  };
+  btTransform at_point;
+  at_point.setIdentity();
+  at_point.setOrigin(toBt(body_->bodyPointInLinkFrame(pair.body_a, pair.point_A)));
+  btMultiBodyLinkCollider* sphere_col = add(link_a, nullptr, at_point);
+  sphere_col->setFriction(contact.friction);  // Bullet combines the two materials by product
+  sphere_col->setRestitution(contact.restitution);
+  contact_child_[c] = {static_cast<int>(colliders_.size()) - 1, 0};
+  // The box in B's body frame: axes (t1, t2, n), top face r below the plane.
+  const double half_depth = std::max(10 * r, 0.01);
+  Eigen::Matrix3d R_BX;
+  R_BX << pair.tangents_B.col(0), pair.tangents_B.col(1), pair.normal_B;
+  const Eigen::Vector3d centre_B = pair.plane_point_B - (r + half_depth) * pair.normal_B;
+  // bodyPointInLinkFrame places a point; the rotation of the body frame in the link frame is that
+  // of two points' difference, so the box's axes are mapped the same way.
+  const Eigen::Vector3d centre_L = body_->bodyPointInLinkFrame(pair.body_b, centre_B);
+  Eigen::Matrix3d R_LX;
+  for (int k = 0; k < 3; ++k)
+    R_LX.col(k) = body_->bodyPointInLinkFrame(pair.body_b, centre_B + R_BX.col(k)) - centre_L;
+  btTransform at_box;
+  at_box.setOrigin(toBt(centre_L));
+  at_box.setBasis(btMatrix3x3(R_LX(0, 0), R_LX(0, 1), R_LX(0, 2), R_LX(1, 0), R_LX(1, 1), R_LX(1, 2), R_LX(2, 0),
+                              R_LX(2, 1), R_LX(2, 2)));
+  auto box = std::make_unique<btBoxShape>(btVector3(pair.extent[0], pair.extent[1], half_depth));
+  add(link_b, std::move(box), at_box);
+}
+
+// The pair colliders at their links' poses (Bullet moves only each link's m_collider).
+void BulletWorld::syncPairColliders() {
+  btMultiBody* mb = body_->multiBody();
+  bool any = false;
+  for (int p : collider_pair_) any = any || p >= 0;
+  if (!any) return;
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  mb->forwardKinematics(world_to_local, local_origin);  // updates each link's m_cachedWorldTransform
+  for (std::size_t i = 0; i < colliders_.size(); ++i) {
+    if (collider_pair_[i] < 0) continue;
+    const int link = collider_link_[i];
+    const btTransform X = link < 0 ? mb->getBaseWorldTransform() : mb->getLink(link).m_cachedWorldTransform;
+    colliders_[i]->setWorldTransform(X);
+    colliders_[i]->setInterpolationWorldTransform(X);
   }
 }
 

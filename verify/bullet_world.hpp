@@ -6,8 +6,13 @@
 //  - the btMultiBody of the scene's Model through BulletMultiBody (bullet_multibody.hpp: tree,
 //    principal inertias, joint types, fixed / planar / free base, saltus <-> Bullet state);
 //  - gravity: the Model's, applied by the world;
-//  - each scene contact point: a sphere of radius `contact_radius` centred at the point, a child
-//    of its link's compound collider (the link's m_collider; one material per link). Each Surface {n·(x − p) = 0} becomes a
+//  - each scene contact point on a world surface: a sphere of radius `contact_radius` centred at
+//    the point, a child of its link's compound collider (the link's m_collider; one material per
+//    link). A contact on a plane fixed in another body: a sphere collider of its own on the
+//    point's link and, on the plane's link, a box whose top face is the plane moved back by the
+//    radius and whose size is the plane's extent; a broadphase filter lets the two meet each
+//    other only (self-collision on, for one multibody), and both follow their links after every
+//    step. Each Surface {n·(x − p) = 0} becomes a
 //    btStaticPlaneShape moved back by the radius, n·x = n·p − r, so the sphere–plane distance
 //    equals the saltus gap n·(x − p) for every orientation of the body. Only the point where the
 //    force acts differs: x − r n instead of x (a moment error r |f_t| for friction forces);
@@ -152,6 +157,11 @@ class BulletWorld {
  private:
   void placeBelts(double t_next);
   void measure();
+  void addBodyPlanePair(int contact, btCollisionShape* sphere);
+  void syncPairColliders();
+
+  class PairFilter;  // broadphase filter: a body-plane contact's two colliders meet each other only
+  static constexpr int kPairGroup = 1 << 6;  // collision group of the pair colliders
 
   scene::Scene scene_;
   std::vector<contact::ContactPair> pairs_;  // the contact layer's: scene contacts, then limit stops
@@ -176,6 +186,8 @@ class BulletWorld {
   std::vector<bool> surface_moves_;                                // kinematic belt
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  // per link with contacts
   std::vector<int> collider_link_;                                 // Bullet link of each collider (−1 base)
+  std::vector<int> collider_pair_;  // of each collider: the contact on a body's plane it serves, −1: the link's own
+  std::unique_ptr<PairFilter> filter_;
   std::vector<std::pair<int, int>> contact_child_;                 // per contact: collider, sphere child
   std::vector<std::unique_ptr<btMultiBodyJointLimitConstraint>> limits_;
   std::vector<int> limit_coordinate_;
