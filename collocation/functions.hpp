@@ -47,7 +47,7 @@ Vec3<S> contactForce(const ContactPair& pair, const dynamics::Data<S>& data, Fri
 }
 
 // Equations of motion at a point, with the reactions of the contacts:
-//   with_dynamics:  M(q) q̈ + C(q, q̇) q̇ + g(q) − B u − Σ_c J_cᵀ f_c = 0   (paper §II.C)
+//   with_dynamics:  M(q) q̈ + C(q, q̇) q̇ + g(q) − τ_0 − B u − Σ_c J_cᵀ f_c = 0   (paper §II.C)
 //   impulsive:      M(q) Δq̇ − Σ_c J_cᵀ p_c = 0                            (paper eq. 6)
 // where f_c = n r_n − μ r_n Σ_i d_i α_i (Activation) or n r_n + Σ_i d_i β_i (Direct).
 // Inputs: q (n), then with_dynamics: q̇ (n); q̈ or Δq̇ (n); u (one per input coordinate); then per
@@ -58,6 +58,7 @@ struct EquationOfMotion {
   std::vector<int> actuated;  // coordinates the inputs act on
   bool with_dynamics = true;
   FrictionForm friction = FrictionForm::Activation;
+  Eigen::VectorXd constant_input;  // τ_0: the scene's constant generalised force (empty: none)
 
   int nv() const { return models->model<double>().nv(); }
   int inputs_count() const { return with_dynamics ? static_cast<int>(actuated.size()) : 0; }
@@ -124,6 +125,8 @@ struct EquationOfMotion {
       r += 1 + c.k();
     }
     for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
+    if (with_dynamics)
+      for (int i = 0; i < constant_input.size(); ++i) y[i] -= S(constant_input[i]);
   }
 };
 

@@ -137,6 +137,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
       for (int i = 0; i < nv; ++i)
         q_max[i] = std::max(q_max[i], std::abs(x[pt.q + i])), v_max[i] = std::max(v_max[i], std::abs(x[pt.v + i]));
   Eigen::VectorXd q(nv), v(nv), qd(nv), vd(nv), tau(nv);
+  const Eigen::VectorXd tau_0 = t.constantInput().size() == nv ? t.constantInput() : Eigen::VectorXd::Zero(nv);
   for (int n = 0; n < t.elements(); ++n) {
     const ElementLayout& L = t.layout()[n];
     const double h = x[L.h];
@@ -165,7 +166,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
         vd += ls[j] * x.segment(pt.a, nv);
       }
       // The EOM's q̈ for the interpolated state, inputs and reactions.
-      tau.setZero();
+      tau = tau_0;
       for (int i = 0; i < nu; ++i)
         for (int j = 0; j < P; ++j) tau[t.problem().inputs[i]] += ls[j] * x[L.points[L.collocation[j]].u + i];
       dynamics::forwardKinematics(model, data, q);

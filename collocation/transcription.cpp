@@ -218,7 +218,7 @@ void Transcription::buildElementConstraints(int n) {
     auto& f = eom_[with_dynamics ? 1 : 0];
     if (!f)
       f = std::make_shared<AdFunction<EquationOfMotion>>(
-          EquationOfMotion{models_.get(), &contacts_, problem_.inputs, with_dynamics, form});
+          EquationOfMotion{models_.get(), &contacts_, problem_.inputs, with_dynamics, form, constantInput()});
     std::vector<int> vars = range(L.points[p].q, nv_);
     if (with_dynamics) {
       const auto v = range(L.points[p].v, nv_);

@@ -94,6 +94,12 @@ class Transcription {
   FrictionForm frictionForm() const {
     return method_ == Method::FirstOrder ? FrictionForm::Direct : FrictionForm::Activation;
   }
+  // The scene's constant generalised force τ_0 (Scene::tau), acting besides the inputs; empty
+  // when the scene has none.
+  Eigen::VectorXd constantInput() const {
+    const Eigen::VectorXd& tau = problem_.scene.tau;
+    return tau.size() == nv_ && !tau.isZero(0) ? tau : Eigen::VectorXd();
+  }
   const ModelSet& models() const { return *models_; }
   const std::vector<ContactPair>& contacts() const { return contacts_; }
   const LegendreGauss& lg() const { return lg_; }

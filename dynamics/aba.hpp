@@ -227,6 +227,9 @@ template <class S>
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
+  checkArgumentSize(model, q.size(), "aba", "q");
+  checkArgumentSize(model, v.size(), "aba", "v");
+  checkArgumentSize(model, tau.size(), "aba", "tau");
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
   const int off = model.nv() - nb;                                // its coordinate k = i + off

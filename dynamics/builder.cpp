@@ -309,4 +309,9 @@ Model<double> pointMassModel(double mass, const Eigen::Vector3d& axis, const std
   return b.build(BaseType::Fixed, gravity);
 }
 
+void argumentSizeError(const char* function, const char* argument, long size, int expected) {
+  throw std::invalid_argument(std::string(function) + ": " + argument + " has " + std::to_string(size) +
+                              " entries; the model has " + std::to_string(expected) + " coordinates");
+}
+
 }  // namespace saltus::dynamics

@@ -68,6 +68,7 @@ SALTUS_INLINE void addInertiaToParent(const XForm& X, const RigidInertia<S>& I, 
 // taken once per body.
 template <class S>
 const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
+  checkArgumentSize(model, q.size(), "crba", "q");
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
   const int off = model.nv() - nb;                                // its coordinate k = i + off

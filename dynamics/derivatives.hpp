@@ -175,6 +175,9 @@ void floatingBaseInward(const Model<double>& model, DerivativeData<N>& dd, tange
 template <int N>
 void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                      const VecRef<double>& v, const VecRef<double>& a) {
+  checkArgumentSize(model, q.size(), "rneaDerivatives", "q");
+  checkArgumentSize(model, v.size(), "rneaDerivatives", "v");
+  checkArgumentSize(model, a.size(), "rneaDerivatives", "a");
   using MotionT = tangent::MotionTangent<N>;
   using ForceT = tangent::ForceTangent<N>;
   using RowN = tangent::Row<N>;
@@ -295,6 +298,9 @@ void rneaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const Ve
 template <int N>
 void abaDerivatives(const Model<double>& model, DerivativeData<N>& dd, const VecRef<double>& q,
                     const VecRef<double>& v, const VecRef<double>& tau) {
+  checkArgumentSize(model, q.size(), "abaDerivatives", "q");
+  checkArgumentSize(model, v.size(), "abaDerivatives", "v");
+  checkArgumentSize(model, tau.size(), "abaDerivatives", "tau");
   const int n = model.nv();
   MatX<double>* blocks[3] = {&dd.dqdd_dq, &dd.dqdd_dv, &dd.dqdd_dtau};
   for (int first = 0; first < 3 * n; first += N) {

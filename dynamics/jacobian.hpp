@@ -15,6 +15,7 @@ namespace saltus::dynamics {
 template <class S>
 void bodyJacobianWorld(const Model<S>& model, const Data<S>& data, int body,
                        MatOut<Mat6X<S>> J) {
+  checkArgumentSize(model, J.cols(), "bodyJacobianWorld", "J's columns");
   J.setZero();
   for (int j = body; j >= 0; j = model.parent[j])
     for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
@@ -28,6 +29,7 @@ void bodyJacobianWorld(const Model<S>& model, const Data<S>& data, int body,
 template <class S>
 void pointJacobian(const Model<S>& model, const Data<S>& data, int body, const Vec3<S>& p_BP,
                    MatOut<Mat3X<S>> J) {
+  checkArgumentSize(model, J.cols(), "pointJacobian", "J's columns");
   J.setZero();
   if (body < 0) return;
   const Vec3<S> p_WP = pointPosition(data, body, p_BP);

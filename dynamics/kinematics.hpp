@@ -62,6 +62,7 @@ SALTUS_INLINE Motion<S> jointAcceleration(const Model<S>& model, const Data<S>& 
 // Poses: data.X_up, data.X_world.
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
+  checkArgumentSize(model, q.size(), "forwardKinematics", "q");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);
     const int p = model.parent[i];
@@ -73,6 +74,8 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q)
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                        const VecRef<S>& v) {
+  checkArgumentSize(model, q.size(), "forwardKinematics", "q");
+  checkArgumentSize(model, v.size(), "forwardKinematics", "v");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);
     const int p = model.parent[i];
@@ -96,6 +99,8 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
 // duals where those unused terms cost as much as the velocities).
 template <class S>
 void forwardVelocities(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v) {
+  checkArgumentSize(model, q.size(), "forwardVelocities", "q");
+  checkArgumentSize(model, v.size(), "forwardVelocities", "v");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);
     const int p = model.parent[i], k = model.first_coordinate[i];
@@ -115,6 +120,7 @@ void forwardVelocities(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                        const VecRef<S>& v, const VecRef<S>& a) {
+  checkArgumentSize(model, a.size(), "forwardKinematics", "a");
   forwardKinematics(model, data, q, v);
   for (int i = 0; i < model.nbodies(); ++i) {
     const int p = model.parent[i];

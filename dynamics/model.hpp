@@ -358,4 +358,15 @@ int Model<S>::frameIndex(const std::string& frame) const {
   return -1;
 }
 
+// Argument sizes of the public algorithms, as Pinocchio's PINOCCHIO_CHECK_ARGUMENT_SIZE: a
+// vector (or a Jacobian's column count) of the wrong length throws std::invalid_argument naming
+// the function, the argument and both sizes, instead of reading past its end. One comparison
+// per argument; the throw is out of line.
+[[noreturn]] void argumentSizeError(const char* function, const char* argument, long size, int expected);
+template <class S>
+inline void checkArgumentSize(const Model<S>& model, long size, const char* function, const char* argument) {
+  if (size != model.nv()) [[unlikely]]
+    argumentSizeError(function, argument, size, model.nv());
+}
+
 }  // namespace saltus::dynamics

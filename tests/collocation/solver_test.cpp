@@ -14,6 +14,7 @@
 #include "dynamics/jacobian.hpp"
 #include "dynamics/kinematics.hpp"
 #include "dynamics/rnea.hpp"
+#include "scene/scenario.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/rk4.hpp"
 
@@ -197,6 +198,42 @@ TEST(Solver, PointMassThrowLandsSlidesAndStops) {
 
 // A smooth problem (a pendulum swinging freely, fixed element lengths): the state at the mesh
 // points converges at order 2P (Gauss collocation's superconvergence) as N grows.
+// Contact between two moving bodies in the optimiser: the block on the pulled cart (scene
+// block_on_cart, sliding: F = 30 N > μ g (M + m)), no task but the dynamics, solved by each
+// method from its simulation seed. The motion is the analytic one: the block at μ g, the cart at
+// (F − μ m g)/M, the block on the deck throughout (0.4 s, before it reaches the deck's end).
+TEST(Solver, BlockOnACartSlidesWithTheAnalyticAccelerationsInEveryMethod) {
+  const double M = 4, m = 1, mu = 0.4, F = 30;
+  const double a_cart = (F - mu * m * g) / M, a_block = mu * g;
+  for (const Method method : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
+    SCOPED_TRACE(toString(method));
+    Problem p;
+    p.name = "block_on_cart";
+    p.scene = scene::loadScene("block_on_cart");
+    p.N = 8;
+    p.P = 3;
+    p.h_max = 0.05;
+    p.total_time_kind = TotalTime::Equal;
+    p.total_time = 0.4;
+    const Transcription t(p, method);
+    const Seeding seeding = makeSeeding(t);
+    SolveOptions o;
+    o.restarts = seeding.restarts;
+    const SolveReport report = solve(t, seeding.seed, o);
+    ASSERT_TRUE(report.feasible) << report.stages.back().status << ", largest product " << report.largest_product;
+    // Collocation is exact for these quadratic motions; backward Euler is first order: its steps
+    // lag by about a t h / 2.
+    const double h = method == Method::FirstOrder ? 0.4 / (p.N * p.first_order_steps_per_element) : 0.0;
+    for (const Sample& r : trajectory(t, report.x)) {
+      EXPECT_NEAR(r.q[0], 0.5 * a_cart * r.t * r.t, 1e-4 + a_cart * r.t * h) << "cart at t = " << r.t;
+      EXPECT_NEAR(r.q[1], 0.5 * a_block * r.t * r.t, 1e-4 + a_block * r.t * h) << "block at t = " << r.t;
+      EXPECT_NEAR(r.q[2], 0.0, 1e-6) << "block height at t = " << r.t;
+      if (r.t > 0.01 && r.contacts[0].rn > 0)
+        EXPECT_NEAR(r.contacts[0].rt[0], mu * r.contacts[0].rn, 1e-3 * m * g) << "friction at t = " << r.t;  // sliding: on the cone
+    }
+  }
+}
+
 TEST(Solver, GaussCollocationConvergenceOrder) {
   const dynamics::Model<double> model = testing::pendulumModel({1.0}, {0.5});
   const double T = 0.6, q0 = 1.0;

@@ -9,6 +9,7 @@
 #include "dynamics/rnea.hpp"
 #include "tests/support/free_body.hpp"
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -65,6 +66,18 @@ TEST(Aba, FreeBodyObeysEulersEquations) {
     EXPECT_LT((alpha_W - R * alpha_B).norm(), 1e-6 * (1 + alpha_B.norm()));
     EXPECT_LT(qdd.head<3>().norm(), 1e-10);  // the centre of mass at the origin does not accelerate
   }
+}
+
+TEST(Aba, WrongArgumentSizesAreErrors) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  EXPECT_NE(error([&] { aba(model, data, bad, ok, ok); }).find("aba: q has 4"), std::string::npos);
+  EXPECT_NE(error([&] { aba(model, data, ok, bad, ok); }).find("aba: v has 4"), std::string::npos);
+  EXPECT_NE(error([&] { aba(model, data, ok, ok, bad); }).find("aba: tau has 4"), std::string::npos);
+  EXPECT_EQ(error([&] { aba(model, data, ok, ok, ok); }), "");
 }
 
 }  // namespace

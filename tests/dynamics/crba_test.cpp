@@ -11,6 +11,7 @@
 #include "tests/support/free_body.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -66,6 +67,16 @@ TEST(Crba, ColumnsEqualRneaAndMatrixIsSymmetricPositiveDefinite) {
       EXPECT_NEAR(0.5 * v.dot(M * v), kineticEnergy(model, data), 1e-10 * (1 + M.norm()));
     }
   }
+}
+
+TEST(Crba, WrongArgumentSizeIsAnError) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  EXPECT_EQ(error([&] { crba(model, data, bad); }), "crba: q has 4 entries; the model has 3 coordinates");
+  EXPECT_EQ(error([&] { crba(model, data, ok); }), "");
 }
 
 }  // namespace

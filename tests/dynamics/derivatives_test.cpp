@@ -8,6 +8,7 @@
 #include "dynamics/urdf.hpp"
 #include "saltus/build_paths.hpp"
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -121,6 +122,17 @@ TEST(Derivatives, AbaMatchesFiniteDifferences) {
       EXPECT_LT(relativeError(dd.dqdd_dtau, crba(model, data, q).inverse()), 1e-10);
     }
   }
+}
+
+TEST(Derivatives, WrongArgumentSizesAreErrors) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  DerivativeData<8> dd(model);
+  EXPECT_NE(error([&] { rneaDerivatives(model, dd, bad, ok, ok); }).find("rneaDerivatives: q has 4"), std::string::npos);
+  EXPECT_NE(error([&] { abaDerivatives(model, dd, ok, ok, bad); }).find("abaDerivatives: tau has 4"), std::string::npos);
 }
 
 }  // namespace

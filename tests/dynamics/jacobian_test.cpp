@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -81,6 +82,21 @@ TEST(Jacobian, VelocityProductTermIsDerivativeOfJv) {
     // a_P = J q̈ + J̇ q̇.
     EXPECT_LT((pointAcceleration(data, b, p) - (J * a + pointAccelerationBias(data, b, p))).norm(), 1e-12);
   }
+}
+
+TEST(Jacobian, WrongColumnCountIsAnError) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  forwardKinematics(model, data, ok);
+  Eigen::Matrix3Xd J3(3, model.nv() + 1);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J6(6, model.nv() - 1);
+  EXPECT_NE(error([&] { pointJacobian(model, data, 0, Eigen::Vector3d(Eigen::Vector3d::Zero()), J3); }).find("pointJacobian: J's columns"),
+            std::string::npos);
+  EXPECT_NE(error([&] { bodyJacobianWorld(model, data, 0, J6); }).find("bodyJacobianWorld: J's columns has 2"),
+            std::string::npos);
 }
 
 }  // namespace

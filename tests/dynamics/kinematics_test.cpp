@@ -6,6 +6,7 @@
 
 #include "tests/support/free_body.hpp"
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -74,6 +75,20 @@ TEST(Kinematics, ForwardVelocitiesAreThoseOfForwardKinematics) {
     }
     EXPECT_GT(largest, 0.1) << toString(base);  // the bodies move
   }
+}
+
+TEST(Kinematics, WrongArgumentSizesAreErrors) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  EXPECT_NE(error([&] { forwardKinematics(model, data, bad); }).find("forwardKinematics: q has 4"), std::string::npos);
+  EXPECT_NE(error([&] { forwardKinematics(model, data, ok, bad); }).find("forwardKinematics: v has 4"), std::string::npos);
+  EXPECT_NE(error([&] { forwardKinematics(model, data, ok, ok, bad); }).find("forwardKinematics: a has 4"),
+            std::string::npos);
+  EXPECT_NE(error([&] { forwardVelocities(model, data, bad, ok); }).find("forwardVelocities: q has 4"), std::string::npos);
+  EXPECT_EQ(error([&] { forwardKinematics(model, data, ok, ok, ok); }), "");
 }
 
 }  // namespace

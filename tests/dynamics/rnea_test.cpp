@@ -9,6 +9,7 @@
 #include "dynamics/kinematics.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/random_model.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -104,6 +105,22 @@ TEST(Rnea, GravityTermIsGradientOfPotential) {
     const double Vm = potentialEnergy(model, data);
     EXPECT_NEAR(g[j], (Vp - Vm) / (2 * eps), 1e-7 * (1 + std::abs(g[j])));
   }
+}
+
+// A vector of the wrong length is an error naming the function and the argument, not a read past
+// its end (dynamics::checkArgumentSize).
+TEST(Rnea, WrongArgumentSizesAreErrors) {
+  std::mt19937 rng(3);
+  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
+  Data<double> data(model);
+  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
+  EXPECT_EQ(error([&] { rnea(model, data, bad, ok, ok); }), "rnea: q has 4 entries; the model has 3 coordinates");
+  EXPECT_NE(error([&] { rnea(model, data, ok, bad, ok); }).find("rnea: v has 4 entries"), std::string::npos);
+  EXPECT_NE(error([&] { rnea(model, data, ok, ok, bad); }).find("rnea: a has 4 entries"), std::string::npos);
+  EXPECT_NE(error([&] { nonLinearEffects(model, data, ok, bad); }).find("nonLinearEffects: v"), std::string::npos);
+  EXPECT_NE(error([&] { nonLinearEffectsAtCurrentPoses(model, data, bad); }).find("v has 4"), std::string::npos);
+  EXPECT_EQ(error([&] { rnea(model, data, ok, ok, ok); }), "");
 }
 
 }  // namespace
