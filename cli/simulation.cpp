@@ -15,7 +15,6 @@
 #include <stdexcept>
 
 #include "cli/common.hpp"
-#include "saltus/build_paths.hpp"
 #include "scene/scenario.hpp"
 
 extern char** environ;
@@ -94,7 +93,7 @@ double cpuSeconds() {
 
 std::vector<std::string> chartScriptCommand(const std::string& kind, const std::string& csv, const std::string& png,
                                             const std::string& svg) {
-  const std::string script = std::string(SALTUS_SOURCE_DIR) + "/scripts/charts.py";
+  const std::string script = scene::dataDirectory() + "/scripts/charts.py";
   std::string python = "python3";
   if (const char* env = std::getenv("SALTUS_PYTHON"); env && *env)
     python = env;

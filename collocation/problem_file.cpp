@@ -1,6 +1,5 @@
 #include "collocation/problem_file.hpp"
 
-#include "saltus/build_paths.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -510,7 +509,7 @@ void ProblemReader::read(const YAML::Node& root) {
 
 std::string problemsDirectory() {
   if (const char* env = std::getenv("SALTUS_PROBLEMS_DIR"); env && *env) return env;
-  return std::string(SALTUS_SOURCE_DIR) + "/models/problems";
+  return scene::dataDirectory() + "/models/problems";
 }
 
 std::vector<std::string> builtinProblemNames() {

@@ -29,7 +29,7 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
 std::vector<std::string> builtinProblemNames();
 
 // Where built-in problems are looked up: $SALTUS_PROBLEMS_DIR when set and non-empty, else
-// <source tree>/models/problems.
+// scene::dataDirectory()/models/problems.
 std::string problemsDirectory();
 
 }  // namespace saltus::collocation

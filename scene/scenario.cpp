@@ -493,9 +493,15 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
 
 }  // namespace
 
+std::string dataDirectory() {
+  std::error_code ec;
+  if (fs::is_directory(std::string(SALTUS_SOURCE_DIR) + "/models", ec)) return SALTUS_SOURCE_DIR;
+  return SALTUS_INSTALL_DATA_DIR;
+}
+
 std::string scenesDirectory() {
   if (const char* env = std::getenv("SALTUS_SCENES_DIR"); env && *env) return env;
-  return std::string(SALTUS_SOURCE_DIR) + "/models/scenes";
+  return dataDirectory() + "/models/scenes";
 }
 
 std::vector<std::string> builtinSceneNames() {

@@ -35,8 +35,12 @@ Scene readScene(YamlReader& reader, const YAML::Node& root, const std::vector<st
 // Names of the built-in scenes, sorted.
 std::vector<std::string> builtinSceneNames();
 
+// The folder holding the bundled models/ and scripts/: the source tree Saltus was built from
+// while it has them, else the installed copy (<prefix>/share/saltus, `cmake --install`).
+std::string dataDirectory();
+
 // Where built-in scenes are looked up: $SALTUS_SCENES_DIR when set and non-empty, else
-// <source tree>/models/scenes.
+// dataDirectory()/models/scenes.
 std::string scenesDirectory();
 
 }  // namespace saltus::scene
