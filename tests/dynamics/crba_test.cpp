@@ -70,10 +70,8 @@ TEST(Crba, ColumnsEqualRneaAndMatrixIsSymmetricPositiveDefinite) {
 }
 
 TEST(Crba, WrongArgumentSizeIsAnError) {
-  std::mt19937 rng(3);
-  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
-  Data<double> data(model);
-  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  testing::ArgumentSizes a;
+  const auto& [model, data, ok, bad] = std::tie(a.model, a.data, a.ok, a.bad);
   auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
   EXPECT_EQ(error([&] { crba(model, data, bad); }), "crba: q has 4 entries; the model has 3 coordinates");
   EXPECT_EQ(error([&] { crba(model, data, ok); }), "");

@@ -125,10 +125,8 @@ TEST(Derivatives, AbaMatchesFiniteDifferences) {
 }
 
 TEST(Derivatives, WrongArgumentSizesAreErrors) {
-  std::mt19937 rng(3);
-  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
-  Data<double> data(model);
-  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  testing::ArgumentSizes a;
+  const auto& [model, data, ok, bad] = std::tie(a.model, a.data, a.ok, a.bad);
   auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
   DerivativeData<8> dd(model);
   EXPECT_NE(error([&] { rneaDerivatives(model, dd, bad, ok, ok); }).find("rneaDerivatives: q has 4"), std::string::npos);

@@ -85,10 +85,8 @@ TEST(Jacobian, VelocityProductTermIsDerivativeOfJv) {
 }
 
 TEST(Jacobian, WrongColumnCountIsAnError) {
-  std::mt19937 rng(3);
-  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
-  Data<double> data(model);
-  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  testing::ArgumentSizes a;
+  const auto& [model, data, ok, bad] = std::tie(a.model, a.data, a.ok, a.bad);
   auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
   forwardKinematics(model, data, ok);
   Eigen::Matrix3Xd J3(3, model.nv() + 1);

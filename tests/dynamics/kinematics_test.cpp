@@ -78,10 +78,8 @@ TEST(Kinematics, ForwardVelocitiesAreThoseOfForwardKinematics) {
 }
 
 TEST(Kinematics, WrongArgumentSizesAreErrors) {
-  std::mt19937 rng(3);
-  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
-  Data<double> data(model);
-  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  testing::ArgumentSizes a;
+  const auto& [model, data, ok, bad] = std::tie(a.model, a.data, a.ok, a.bad);
   auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
   EXPECT_NE(error([&] { forwardKinematics(model, data, bad); }).find("forwardKinematics: q has 4"), std::string::npos);
   EXPECT_NE(error([&] { forwardKinematics(model, data, ok, bad); }).find("forwardKinematics: v has 4"), std::string::npos);

@@ -110,10 +110,8 @@ TEST(Rnea, GravityTermIsGradientOfPotential) {
 // A vector of the wrong length is an error naming the function and the argument, not a read past
 // its end (dynamics::checkArgumentSize).
 TEST(Rnea, WrongArgumentSizesAreErrors) {
-  std::mt19937 rng(3);
-  const Model<double> model = testing::randomTreeBuilder(rng, 3).build(BaseType::Fixed);
-  Data<double> data(model);
-  const Eigen::VectorXd ok = Eigen::VectorXd::Zero(model.nv()), bad = Eigen::VectorXd::Zero(model.nv() + 1);
+  testing::ArgumentSizes a;
+  const auto& [model, data, ok, bad] = std::tie(a.model, a.data, a.ok, a.bad);
   auto error = [](const std::function<void()>& f) { return testing::invalidArgumentOf(f); };
   EXPECT_EQ(error([&] { rnea(model, data, bad, ok, ok); }), "rnea: q has 4 entries; the model has 3 coordinates");
   EXPECT_NE(error([&] { rnea(model, data, ok, bad, ok); }).find("rnea: v has 4 entries"), std::string::npos);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <random>
+#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -109,5 +110,21 @@ inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale = 1.0
   for (int i = 0; i < n; ++i) x[i] = u(rng);
   return x;
 }
+
+// For the argument-size checks of the dynamics functions: a 3-coordinate random tree, its
+// workspace, and zero vectors of the right length and of one more.
+struct ArgumentSizes {
+  dynamics::Model<double> model;
+  dynamics::Data<double> data;
+  Eigen::VectorXd ok, bad;
+  ArgumentSizes()
+      : model([] {
+          std::mt19937 rng(3);
+          return randomTreeBuilder(rng, 3).build(dynamics::BaseType::Fixed);
+        }()),
+        data(model),
+        ok(Eigen::VectorXd::Zero(model.nv())),
+        bad(Eigen::VectorXd::Zero(model.nv() + 1)) {}
+};
 
 }  // namespace saltus::testing

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "dynamics/aba.hpp"
-#include "scene/scenario.hpp"
 #include "tests/support/heap_counter.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/rk4.hpp"
@@ -569,102 +568,6 @@ TEST(Stepper, LocatedImpactOnAJointLimitStop) {
     EXPECT_NEAR(sim.q()[0], 0.3 - 1.0 * (sim.time() - t_hit), 1e-12) << "dt = " << dt;
     EXPECT_EQ(sim.stats().located_impacts, 1);
   }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Contact between two moving bodies (a point on one body against a plane fixed in the other):
-// the built-in scenes block_on_cart and block_on_slab, against elementary mechanics.
-
-// Cart (M) pulled by F on frictionless rails, block (m) on its top with friction μ: sticking iff
-// F ≤ μ g (M + m), both at F/(M + m); above, the block at μ g and the cart at (F − μ m g)/M.
-TEST(StepperTwoBodies, BlockOnACartSticksBelowMuAndSlidesAbove) {
-  const double M = 4, m = 1, mu = 0.4, dt = 1e-3, T = 0.5;
-  for (const double F : {0.5 * mu * g * (M + m), 30.0}) {
-    SCOPED_TRACE("F = " + std::to_string(F));
-    TimeStepper sim(scene::loadScene("block_on_cart", {{"force", F}}), options(dt));
-    double largest_pn_error = 0;
-    while (sim.time() < T - 1e-12) {
-      sim.step();
-      largest_pn_error = std::max(largest_pn_error, std::abs(sim.contacts()[0].pn - m * g * dt));
-    }
-    const bool sticks = F <= mu * g * (M + m);
-    const double a_cart = sticks ? F / (M + m) : (F - mu * m * g) / M, a_block = sticks ? a_cart : mu * g;
-    // constant accelerations: the trapezoidal position update is exact up to round-off
-    EXPECT_NEAR(sim.q()[0], 0.5 * a_cart * T * T, 1e-9);  // cart_x
-    EXPECT_NEAR(sim.q()[1], 0.5 * a_block * T * T, 1e-9);  // block_x
-    EXPECT_NEAR(sim.v()[0], a_cart * T, 1e-9);
-    EXPECT_NEAR(sim.v()[1], a_block * T, 1e-9);
-    EXPECT_NEAR(sim.q()[2], 0.0, 1e-9);  // block_z: on the deck, neither sinking nor lifting
-    EXPECT_LT(largest_pn_error, 1e-9);   // the deck carries the block's weight, m g per step
-    EXPECT_NEAR(sim.contacts()[0].vt1, (a_block - a_cart) * T, 1e-9);  // the block's slip on the deck
-  }
-}
-
-// Sliding, the block falls behind and passes the rear end of the deck (half-length 0.5 m) when
-// ½ (a_cart − a_block) t² = 0.5; beyond it the plane's extent ends: the block falls freely.
-TEST(StepperTwoBodies, BlockLeavesTheDeckAtItsEndAndFalls) {
-  const double M = 4, m = 1, mu = 0.4, F = 30, deck = 0.5, dt = 1e-4;
-  const double a_rel = (F - mu * m * g) / M - mu * g, t_off = std::sqrt(2 * deck / a_rel);
-  TimeStepper sim(scene::loadScene("block_on_cart"), options(dt));
-  double t_left = -1;
-  while (sim.time() < 1.0 - 1e-12) {
-    sim.step();
-    if (t_left < 0 && !sim.contacts()[0].over_plane) t_left = sim.time();
-  }
-  ASSERT_GT(t_left, 0) << "the block never left the deck";
-  EXPECT_NEAR(t_left, t_off, 2 * dt);
-  const double fall = 1.0 - t_off;
-  EXPECT_NEAR(sim.q()[2], -0.5 * g * fall * fall, 2 * g * dt);  // free fall from the deck's height
-  EXPECT_NEAR(sim.v()[1], mu * g * t_off, 2 * mu * g * dt);     // no more friction: x velocity kept
-  EXPECT_NEAR(sim.v()[0], F / M * fall + (F - mu * m * g) / M * t_off, 2 * F / M * dt);  // cart alone
-  EXPECT_LT(sim.stats().max_penetration, 1e-9);  // below the deck's plane, but beyond its end
-}
-
-// A block dropped onto a slab resting on the ground: the slab stays, the block leaves at e v, and
-// the ground takes (1 + e) m v through the slab.
-TEST(StepperTwoBodies, BlockReboundsFromASlabThatPassesTheImpulseToTheGround) {
-  const double M = 2, m = 1, h = 0.5, e = 0.5, dt = 1e-4;
-  const double v = std::sqrt(2 * g * h), t_hit = std::sqrt(2 * h / g);
-  TimeStepper sim(scene::loadScene("block_on_slab"), options(dt));
-  double p_ground = 0, p_block = 0, apex = 0, largest_slab_z = 0;
-  bool rebounded = false;
-  while (sim.time() < t_hit + 0.9 * e * v / g * 2) {
-    const double v_before = sim.v()[1];
-    sim.step();
-    largest_slab_z = std::max(largest_slab_z, std::abs(sim.q()[0]));
-    if (!rebounded && v_before < 0 && sim.v()[1] > 0) {  // the impact step
-      rebounded = true;
-      p_ground = sim.contacts()[0].pn;
-      p_block = sim.contacts()[1].pn;
-      EXPECT_NEAR(sim.v()[1], e * v, 2 * g * dt);
-      EXPECT_NEAR(sim.time(), t_hit, 2 * dt);
-    }
-    if (rebounded) apex = std::max(apex, sim.q()[1] - 0.1);  // above the slab's top
-  }
-  ASSERT_TRUE(rebounded);
-  EXPECT_LT(largest_slab_z, 1e-9);                          // the slab never moves
-  EXPECT_NEAR(p_block, (1 + e) * m * v, 3 * m * g * dt);     // Newton: the block's change of momentum
-  EXPECT_NEAR(p_ground, p_block + M * g * dt, 1e-9);         // passed on, with the slab's weight
-  EXPECT_NEAR(apex, e * e * h, 2e-3 * h);
-}
-
-// A block hitting a free slab with gravity off: momentum is conserved at every step and the
-// relative normal velocity reverses times e.
-TEST(StepperTwoBodies, FreeSlabCollisionConservesMomentum) {
-  const double M = 2, m = 1, e = 0.5, v_b = -2.0, dt = 1e-4;
-  TimeStepper sim(scene::loadScene("block_on_slab", {{"g", 0.0}, {"slab_height", 0.2}, {"block_speed", 2.0},
-                                                    {"height", 0.1}}),
-                  options(dt));
-  const double p0 = m * v_b;
-  double largest_drift = 0;
-  while (sim.time() < 0.2) {
-    sim.step();
-    largest_drift = std::max(largest_drift, std::abs(M * sim.v()[0] + m * sim.v()[1] - p0));
-  }
-  EXPECT_LT(largest_drift, 1e-12);
-  EXPECT_NEAR(sim.v()[1], (m * v_b - M * e * v_b) / (m + M), 1e-9);  // block
-  EXPECT_NEAR(sim.v()[0], (m * v_b + m * e * v_b) / (m + M), 1e-9);  // slab
-  EXPECT_GT(sim.q()[1] - sim.q()[0] - 0.1, 0.0);                      // apart again
 }
 
 }  // namespace
