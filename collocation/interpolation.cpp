@@ -53,8 +53,8 @@ TrajectoryPoint CollocationTrajectory::atElement(int n, double s) const {
   for (int j = 0; j < P; ++j) {
     const auto& pt = L.points[L.collocation[j]];
     out.q += h * I[j] * x_.segment(pt.v, nv_);
-    out.v += h * I[j] * x_.segment(pt.a, nv_);
-    out.a += l[j] * x_.segment(pt.a, nv_);
+    out.v += h * I[j] * x_.segment(pt.accel_or_jump, nv_);
+    out.a += l[j] * x_.segment(pt.accel_or_jump, nv_);
     if (nu_ > 0) out.u += l[j] * x_.segment(pt.u, nu_);
   }
   return out;
@@ -64,7 +64,7 @@ std::vector<CollocationTrajectory::Jump> CollocationTrajectory::jumps(double thr
   std::vector<Jump> out;
   if (t_.method() != Method::Impulsive) return out;
   for (int n = 1; n < elements(); ++n) {
-    const int a = t_.layout()[n].points[0].a;
+    const int a = t_.layout()[n].points[0].accel_or_jump;
     if (a < 0) continue;
     const Eigen::VectorXd dv = x_.segment(a, nv_);
     if (dv.cwiseAbs().maxCoeff() > threshold) out.push_back({mesh_[n], n, dv});

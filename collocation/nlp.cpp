@@ -40,7 +40,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     max_in = std::max<std::size_t>(max_in, n);
     max_out = std::max<std::size_t>(max_out, m);
     jac_first_.push_back(static_cast<int>(jac_pos_.size()));
-    if (b.row >= 0)
+    if (!b.isCost())
       for (int c = 0; c < n; ++c)
         for (int r = 0; r < m; ++r) {
           const auto key = std::make_pair(b.row + r, b.vars[c]);
@@ -48,7 +48,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
           if (added) jac_row_.push_back(key.first), jac_col_.push_back(key.second);
           jac_pos_.push_back(it->second);
         }
-    hess_first_.push_back(b.f->linear() || (b.row < 0 && weight(b) == 0) ? -1 : static_cast<int>(hess_pos_.size()));
+    hess_first_.push_back(b.f->linear() || (b.isCost() && weight(b) == 0) ? -1 : static_cast<int>(hess_pos_.size()));
     if (hess_first_.back() < 0) continue;
     for (int j = 0; j < n; ++j)
       for (int i = j; i < n; ++i) {
@@ -66,7 +66,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
 }
 
 double Nlp::weight(const Block& b) const {
-  if (b.row >= 0) return 0.0;
+  if (!b.isCost()) return 0.0;
   if (b.cost_group == kPenaltyCost)
     return stage_ == Stage::Feasibility ? 1.0 : t_.problem().cost.penalty_weight;
   if (b.cost_group == kTaskCost) return stage_ == Stage::Task ? 1.0 : 0.0;
@@ -113,7 +113,7 @@ bool Nlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_
   Timer timer(eval_seconds_);
   obj_value = 0;
   for (const Block& b : t_.blocks()) {
-    const double w = b.row < 0 ? weight(b) : 0.0;
+    const double w = b.isCost() ? weight(b) : 0.0;
     if (w == 0) continue;
     b.f->value(gather(b, x), local_y_.data());
     obj_value += w * local_y_[0];
@@ -125,7 +125,7 @@ bool Nlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Numbe
   Timer timer(eval_seconds_);
   for (int i = 0; i < n; ++i) grad_f[i] = 0;
   for (const Block& b : t_.blocks()) {
-    const double w = b.row < 0 ? weight(b) : 0.0;
+    const double w = b.isCost() ? weight(b) : 0.0;
     if (w == 0) continue;
     b.f->jacobian(gather(b, x), local_d_.data());
     for (std::size_t c = 0; c < b.vars.size(); ++c) grad_f[b.vars[c]] += w * local_d_[c];
@@ -136,7 +136,7 @@ bool Nlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Numbe
 bool Nlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) {
   Timer timer(eval_seconds_);
   for (const Block& b : t_.blocks()) {
-    if (b.row < 0) continue;
+    if (b.isCost()) continue;
     b.f->value(gather(b, x), g + b.row);
   }
   return true;
@@ -153,7 +153,7 @@ bool Nlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, I
   const auto& blocks = t_.blocks();
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
-    if (b.row < 0) continue;
+    if (b.isCost()) continue;
     b.f->jacobian(gather(b, x), local_d_.data());
     const int count = b.f->inputs() * b.f->outputs();
     const int* pos = jac_pos_.data() + jac_first_[bi];
@@ -178,7 +178,7 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     const int n = b.f->inputs(), m = b.f->outputs();
     bool any = false;
     for (int r = 0; r < m; ++r) {
-      local_l_[r] = b.row >= 0 ? lambda[b.row + r] : obj_factor * weight(b);
+      local_l_[r] = !b.isCost() ? lambda[b.row + r] : obj_factor * weight(b);
       any = any || local_l_[r] != 0;
     }
     if (!any) continue;

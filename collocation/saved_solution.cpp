@@ -187,8 +187,8 @@ Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolutio
       const auto& pt = L.points[p];
       x.segment(pt.q, nv) = e.q;
       x.segment(pt.v, nv) = e.v;
-      if (pt.a >= 0)
-        x.segment(pt.a, nv) = start ? Eigen::VectorXd(e.v - traj.at(t, Side::Before).v) : e.a;  // Δq̇ at [n, 0]
+      if (pt.accel_or_jump >= 0)
+        x.segment(pt.accel_or_jump, nv) = start ? Eigen::VectorXd(e.v - traj.at(t, Side::Before).v) : e.a;  // Δq̇ at [n, 0]
       if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu) = e.u;
     }
     t0 += h;

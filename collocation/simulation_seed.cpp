@@ -266,7 +266,7 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
     // Without velocity jumps (continuous, first order) the element that starts at an impact
     // spreads it: the velocity goes from the one before it to the one after over the element,
     // through the impulse as a force over the element's length.
-    const bool spread = impact_here && L.points[0].a < 0;
+    const bool spread = impact_here && L.points[0].accel_or_jump < 0;
     Eigen::VectorXd jump = Eigen::VectorXd::Zero(nv);
     if (spread) {
       sim.state(t0, Side::Before, q_before, v_before);
@@ -291,12 +291,12 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
       x.segment(pt.v, nv) = v - (1 - L.tau[pi]) * jump;
       if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu).setZero();
       const long k = sim.smoothStep(sim.stepAt(time));
-      if (pt.a >= 0) {
+      if (pt.accel_or_jump >= 0) {
         if (start) {
           sim.state(time, Side::Before, q_before, v_before);
-          x.segment(pt.a, nv) = v - v_before;  // Δq̇ at [n, 0]
+          x.segment(pt.accel_or_jump, nv) = v - v_before;  // Δq̇ at [n, 0]
         } else {
-          x.segment(pt.a, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt + jump / hm;
+          x.segment(pt.accel_or_jump, nv) = (sim.v[k + 1] - sim.v[k]) / sim.dt + jump / hm;
         }
       }
       dynamics::forwardKinematics(model, data, q);  // the contact frames at this point
@@ -338,13 +338,13 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
         };
         if (t.method() == Method::FirstOrder) {
           const int i = closest(f_t);  // β: the friction force along d_i
-          x[C.t[pi] + i] = std::max(0.0, d.col(i).dot(f_t));
+          x[C.tangential[pi] + i] = std::max(0.0, d.col(i).dot(f_t));
         } else if (v_t.norm() > 1e-6) {
-          x[C.t[pi] + closest(v_t)] = 1;  // sliding (or open): Σα = 1 along the slip (eqs. 11–13)
+          x[C.tangential[pi] + closest(v_t)] = 1;  // sliding (or open): Σα = 1 along the slip (eqs. 11–13)
         } else if (cp.friction * pn > 0) {
           // sticking: the force −μ r_n Σ d_i α_i (eq. 11) is the simulated friction f_t
           const int i = closest(-f_t);
-          x[C.t[pi] + i] = std::min(1.0, std::max(0.0, -d.col(i).dot(f_t)) / (cp.friction * pn));
+          x[C.tangential[pi] + i] = std::min(1.0, std::max(0.0, -d.col(i).dot(f_t)) / (cp.friction * pn));
         }
       }
     }

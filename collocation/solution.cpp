@@ -28,13 +28,13 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
   auto& data = t.models().data<double>();
   const int nv = model.nv(), nu = static_cast<int>(t.problem().inputs.size());
   const bool impulsive = t.method() == Method::Impulsive;
-  const bool fo = t.method() == Method::FirstOrder;
+  const bool first_order = t.method() == Method::FirstOrder;
   std::vector<Sample> rows;
   double t0 = 0;
   for (int n = 0; n < t.elements(); ++n) {
     const ElementLayout& L = t.layout()[n];
     const double h = x[L.h];
-    const int element = fo ? n / t.problem().first_order_steps_per_element : n;
+    const int element = first_order ? n / t.problem().first_order_steps_per_element : n;
     for (std::size_t p = 0; p < L.points.size(); ++p) {
       if (p == 0 && n > 0 && !impulsive) continue;  // continuous velocity: one row per mesh point
       const auto& pt = L.points[p];
@@ -59,7 +59,7 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
           cs.vt = T.transpose() * contact::relativeVelocity(cp, data, t.surfaceVelocity(cp.surface, element));
           if (C.rn[p] >= 0) {
             const double rn = x[C.rn[p]];
-            const double* tangential = cp.k() > 0 ? x.data() + C.t[p] : nullptr;
+            const double* tangential = cp.k() > 0 ? x.data() + C.tangential[p] : nullptr;
             (impulse ? cs.pn : cs.rn) = rn;
             (impulse ? cs.pt : cs.rt) = T.transpose() * contactForce(cp, data, t.frictionForm(), rn, tangential, true);
           }
@@ -123,7 +123,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
   auto& data = t.models().data<double>();
   const int nv = model.nv(), nu = static_cast<int>(t.problem().inputs.size());
   const int P = static_cast<int>(t.layout()[0].collocation.size());
-  const bool fo = t.method() == Method::FirstOrder;
+  const bool first_order = t.method() == Method::FirstOrder;
   Eigen::VectorXd gx, gw;
   gaussLegendre(P + 1, gx, gw);
   double total = 0;
@@ -147,7 +147,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
       // State polynomials and their derivatives (eq. 3 with s in place of τ_p; first order: the
       // backward-Euler step is linear in s with the end point's rates).
       Eigen::VectorXd Is, ls;
-      if (fo) {
+      if (first_order) {
         Is = Eigen::VectorXd::Constant(1, s);
         ls = Eigen::VectorXd::Ones(1);
       } else {
@@ -161,9 +161,9 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
       for (int j = 0; j < P; ++j) {
         const auto& pt = L.points[L.collocation[j]];
         q += h * Is[j] * x.segment(pt.v, nv);
-        v += h * Is[j] * x.segment(pt.a, nv);
+        v += h * Is[j] * x.segment(pt.accel_or_jump, nv);
         qd += ls[j] * x.segment(pt.v, nv);
-        vd += ls[j] * x.segment(pt.a, nv);
+        vd += ls[j] * x.segment(pt.accel_or_jump, nv);
       }
       // The EOM's q̈ for the interpolated state, inputs and reactions.
       tau = tau_0;
@@ -176,7 +176,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
         for (int j = 0; j < P; ++j) {
           const int p = L.collocation[j];
           const double rn = x[C.rn[p]];
-          const double* tangential = cp.k() > 0 ? x.data() + C.t[p] : nullptr;
+          const double* tangential = cp.k() > 0 ? x.data() + C.tangential[p] : nullptr;
           const Eigen::Vector3d f_t = cp.isStop() ? Eigen::Vector3d::Zero().eval()
                                                   : contactForce(cp, data, t.frictionForm(), rn, tangential, true);
           contact::addReaction(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), tau.data());

@@ -107,18 +107,18 @@ void Transcription::addLinearEquality(const std::vector<int>& vars, const Eigen:
 }
 
 void Transcription::buildVariables() {
-  const bool fo = method_ == Method::FirstOrder;
+  const bool first_order = method_ == Method::FirstOrder;
   const bool impulsive = method_ == Method::Impulsive;
-  const int spe = fo ? problem_.first_order_steps_per_element : 1;
-  const int elements = problem_.N * spe;
-  const double h_max = problem_.h_max / spe;
-  const int P = fo ? 1 : problem_.P;
+  const int steps_per_element = first_order ? problem_.first_order_steps_per_element : 1;
+  const int elements = problem_.N * steps_per_element;
+  const double h_max = problem_.h_max / steps_per_element;
+  const int P = first_order ? 1 : problem_.P;
   layout_.resize(elements);
   for (int n = 0; n < elements; ++n) {
     ElementLayout& L = layout_[n];
     L.h = addVariables(1, problem_.h_min_ratio * h_max, h_max, "h" + at(n, 0));
     L.tau.push_back(0);
-    if (fo) {
+    if (first_order) {
       L.tau.push_back(1);
       L.collocation = {1};
       L.end = 1;
@@ -135,11 +135,11 @@ void Transcription::buildVariables() {
       pt.v = addVariables(nv_, -kInf, kInf, "v" + at(n, p));
     }
     for (int p : L.collocation) {
-      L.points[p].a = addVariables(nv_, -kInf, kInf, "a" + at(n, p));
+      L.points[p].accel_or_jump = addVariables(nv_, -kInf, kInf, "a" + at(n, p));
       if (nu_ > 0) L.points[p].u = addVariables(nu_, -kInf, kInf, "u" + at(n, p));
     }
     const bool jump = impulsive && n > 0;
-    if (jump) L.points[0].a = addVariables(nv_, -kInf, kInf, "dv" + at(n, 0));
+    if (jump) L.points[0].accel_or_jump = addVariables(nv_, -kInf, kInf, "dv" + at(n, 0));
     L.contacts.resize(contacts_.size());
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
       const ContactPair& cp = contacts_[c];
@@ -147,7 +147,7 @@ void Transcription::buildVariables() {
       const std::string tag = cp.name;
       C.y.assign(npts, -1);
       C.rn.assign(npts, -1);
-      C.t.assign(npts, -1);
+      C.tangential.assign(npts, -1);
       C.gamma.assign(npts, -1);
       C.psi.assign(npts, -1);
       C.slip_block.assign(npts, -1);
@@ -157,7 +157,7 @@ void Transcription::buildVariables() {
       for (int p : force_points) {
         C.rn[p] = addVariables(1, 0, kInf, (p == 0 ? "pn." : "rn.") + tag + at(n, p));
         if (cp.k() > 0) {
-          C.t[p] = addVariables(cp.k(), 0, fo ? kInf : 1.0, (fo ? "beta." : "alpha.") + tag + at(n, p));
+          C.tangential[p] = addVariables(cp.k(), 0, first_order ? kInf : 1.0, (first_order ? "beta." : "alpha.") + tag + at(n, p));
           C.gamma[p] = addVariables(1, 0, kInf, "gamma." + tag + at(n, p));
         }
       }
@@ -178,20 +178,20 @@ static std::vector<int> range(int first, int count) {
 
 void Transcription::buildElementConstraints(int n) {
   const ElementLayout& L = layout_[n];
-  const bool fo = method_ == Method::FirstOrder;
+  const bool first_order = method_ == Method::FirstOrder;
   const int P = static_cast<int>(L.collocation.size());
   auto integrate = [&](int target, const Eigen::VectorXd& c, const std::string& name) {
     const auto f = std::make_shared<AdFunction<Integration>>(Integration{c});
     for (int i = 0; i < nv_; ++i)
       for (int kind = 0; kind < 2; ++kind) {  // q from q̇, q̇ from q̈
         auto var = [&](int p) { return kind == 0 ? L.points[p].q + i : L.points[p].v + i; };
-        auto rate = [&](int p) { return kind == 0 ? L.points[p].v + i : L.points[p].a + i; };
+        auto rate = [&](int p) { return kind == 0 ? L.points[p].v + i : L.points[p].accel_or_jump + i; };
         std::vector<int> vars = {var(target), var(0), L.h};
         for (int p : L.collocation) vars.push_back(rate(p));
         addBlock(f, vars, 0, 0, std::string(kind == 0 ? "int.q" : "int.v") + name + "." + std::to_string(i));
       }
   };
-  if (fo) {
+  if (first_order) {
     integrate(1, Eigen::VectorXd::Ones(1), at(n, 1));  // backward Euler
   } else {
     for (int p = 0; p < P; ++p) integrate(L.collocation[p], lg_.Omega.row(p).transpose(), at(n, p + 1));  // (3)
@@ -203,8 +203,8 @@ void Transcription::buildElementConstraints(int n) {
     for (int i = 0; i < nv_; ++i) {
       addLinearEquality({L.points[0].q + i, prev.points[prev.end].q + i}, Eigen::Vector2d(1, -1), 0,
                         "cont.q" + at(n, 0) + "." + std::to_string(i));
-      if (L.points[0].a >= 0)
-        addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i, L.points[0].a + i},
+      if (L.points[0].accel_or_jump >= 0)
+        addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i, L.points[0].accel_or_jump + i},
                           Eigen::Vector3d(1, -1, -1), 0, "jump.v" + at(n, 0) + "." + std::to_string(i));
       else
         addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i}, Eigen::Vector2d(1, -1), 0,
@@ -215,7 +215,7 @@ void Transcription::buildElementConstraints(int n) {
   const FrictionForm form = frictionForm();
   auto eom = [&](int p, bool with_dynamics) {
     // One function per kind, shared by every point (its work arrays are sized once).
-    auto& f = eom_[with_dynamics ? 1 : 0];
+    auto& f = with_dynamics ? eom_with_dynamics_ : eom_impulsive_;
     if (!f)
       f = std::make_shared<AdFunction<EquationOfMotion>>(
           EquationOfMotion{models_.get(), &contacts_, problem_.inputs, with_dynamics, form, constantInput()});
@@ -224,7 +224,7 @@ void Transcription::buildElementConstraints(int n) {
       const auto v = range(L.points[p].v, nv_);
       vars.insert(vars.end(), v.begin(), v.end());
     }
-    const auto a = range(L.points[p].a, nv_);
+    const auto a = range(L.points[p].accel_or_jump, nv_);
     vars.insert(vars.end(), a.begin(), a.end());
     if (with_dynamics && nu_ > 0) {
       const auto u = range(L.points[p].u, nu_);
@@ -232,19 +232,19 @@ void Transcription::buildElementConstraints(int n) {
     }
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
       vars.push_back(L.contacts[c].rn[p]);
-      for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].t[p] + i);
+      for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].tangential[p] + i);
     }
     addBlock(f, vars, 0, 0,
              (with_dynamics ? "eom" : "impulse") + at(n, p));
   };
   for (int p : L.collocation) eom(p, true);
-  if (L.points[0].a >= 0) eom(0, false);
+  if (L.points[0].accel_or_jump >= 0) eom(0, false);
 }
 
 void Transcription::buildContactConstraints(int n) {
   if (contacts_.empty()) return;
   ElementLayout& L = layout_[n];
-  const bool fo = method_ == Method::FirstOrder;
+  const bool first_order = method_ == Method::FirstOrder;
   const int npts = static_cast<int>(L.points.size());
   const int nc = static_cast<int>(contacts_.size());
   // Gap variables at every point.
@@ -284,7 +284,7 @@ void Transcription::buildContactConstraints(int n) {
     }
     // (10), or Posa's φ(q[k+1]) ⊥ λ_n.
     for (int p : L.collocation) {
-      if (fo) {
+      if (first_order) {
         addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, {C.y[p]}, Eigen::VectorXd::Ones(1), 0,
                    "contact." + tag + at(n, p));
       } else {
@@ -299,7 +299,7 @@ void Transcription::buildContactConstraints(int n) {
       if (C.rn[p] >= 0) force_points.push_back(p);
     std::vector<int> gammas;
     for (int p : force_points) gammas.push_back(C.gamma[p]);
-    const int element = fo ? n / problem_.first_order_steps_per_element : n;
+    const int element = first_order ? n / problem_.first_order_steps_per_element : n;
     for (int p : force_points) {
       const int psi = addVariables(cp.k(), 0, kInf, "psi." + tag + at(n, p));
       SlipSlack s{models_.get(), &contacts_[c], surfaceVelocity(cp.surface, element),
@@ -311,10 +311,10 @@ void Transcription::buildContactConstraints(int n) {
       C.psi[p] = psi;
       C.slip_block[p] = addBlock(std::make_shared<AdFunction<SlipSlack>>(s), vars, 0, 0, "slip." + tag + at(n, p));
       for (int i = 0; i < cp.k(); ++i)
-        addProduct({C.t[p] + i}, Eigen::VectorXd::Ones(1), 0, {psi + i}, Eigen::VectorXd::Ones(1), 0,
+        addProduct({C.tangential[p] + i}, Eigen::VectorXd::Ones(1), 0, {psi + i}, Eigen::VectorXd::Ones(1), 0,
                    "direction." + tag + at(n, p) + "." + std::to_string(i));
-      const std::vector<int> t = range(C.t[p], cp.k());
-      if (fo) {
+      const std::vector<int> t = range(C.tangential[p], cp.k());
+      if (first_order) {
         // μ λ_n − Σ β_i ≥ 0 ⊥ γ.
         std::vector<int> cone = {C.rn[p]};
         cone.insert(cone.end(), t.begin(), t.end());
@@ -389,8 +389,8 @@ void Transcription::applyBounds() {
         x_upper_[L.points[p].u + i] = problem_.input_upper.size() ? problem_.input_upper[i] : kInf;
       }
   // Point bounds: the problem's elements map onto first-order steps (element n ↔ steps
-  // spe·n … spe·n + spe − 1; its mesh points to the first step's start and the last step's end).
-  const int spe = method_ == Method::FirstOrder ? problem_.first_order_steps_per_element : 1;
+  // steps_per_element·n … steps_per_element·n + steps_per_element − 1; its mesh points to the first step's start and the last step's end).
+  const int steps_per_element = method_ == Method::FirstOrder ? problem_.first_order_steps_per_element : 1;
   auto apply = [&](const PointBound& b, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
     auto one = [&](int n, int p) {
       const auto& L = layout_[n];
@@ -407,15 +407,15 @@ void Transcription::applyBounds() {
       hi[var] = std::min(hi[var], b.upper);
     };
     for (int n = 0; n < elements(); ++n) {
-      const int pe = n / spe;  // the problem's element
-      if (b.element >= 0 && b.element != pe) continue;
+      const int problem_element = n / steps_per_element;  // the problem's element
+      if (b.element >= 0 && b.element != problem_element) continue;
       const int npts = static_cast<int>(layout_[n].points.size());
       for (int p = 0; p < npts; ++p) {
         if (b.point >= 0) {
-          if (spe == 1) {
+          if (steps_per_element == 1) {
             if (p != b.point) continue;
           } else {  // first order: the element's start, end, or (collocation points) every step end
-            const bool start = p == 0 && n % spe == 0, end = p == 1 && n % spe == spe - 1;
+            const bool start = p == 0 && n % steps_per_element == 0, end = p == 1 && n % steps_per_element == steps_per_element - 1;
             if (b.point == 0 ? !start : b.point == problem_.P + 1 ? !end : p != 1) continue;
           }
         }

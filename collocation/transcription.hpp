@@ -33,13 +33,14 @@
 
 namespace saltus::collocation {
 
-// A group of constraint rows [row, row + outputs) or a cost term (row < 0) given by one local
+// A group of constraint rows [row, row + outputs) or a cost term (isCost) given by one local
 // function of the variables `vars`.
 struct Block {
   std::shared_ptr<const LocalFunction> f;
   std::vector<int> vars;
-  int row = -1;
+  int row = -1;         // first constraint row; −1: a cost term
   int cost_group = -1;  // cost terms: CostGroup
+  bool isCost() const { return row < 0; }
 };
 
 enum CostGroup { kPenaltyCost = 0, kTaskCost = 1 };
@@ -57,7 +58,7 @@ struct ElementLayout {
   std::vector<double> tau;  // point positions in the element, [0, 1]
   struct Point {
     int q = -1, v = -1;  // first of nv
-    int a = -1;          // q̈ (collocation points) or Δq̇ (impulsive [n, 0])
+    int accel_or_jump = -1;  // q̈ (collocation points) or Δq̇ (impulsive [n, 0])
     int u = -1;          // first input (collocation points)
   };
   std::vector<Point> points;
@@ -66,7 +67,7 @@ struct ElementLayout {
   struct ContactVars {
     std::vector<int> y;      // gap, per point
     std::vector<int> rn;     // normal reaction (impulse at an impulsive [n, 0]), per point, −1 where none
-    std::vector<int> t;      // first tangential variable (α or β), per point
+    std::vector<int> tangential;  // first tangential variable (α or β), per point
     std::vector<int> gamma;  // slip-speed bound γ, per point
     std::vector<int> psi;         // first slip slack ψ (12), per point, −1 where none
     std::vector<int> slip_block;  // the block defining ψ, in blocks(), per point
@@ -167,7 +168,7 @@ class Transcription {
   int x_max_ = -1;  // minimise-max variable
   // Local functions shared by the blocks of every element: the equations of motion (impulsive,
   // with dynamics) and each contact's restitution balance.
-  std::shared_ptr<const LocalFunction> eom_[2];
+  std::shared_ptr<const LocalFunction> eom_with_dynamics_, eom_impulsive_;  // shared by every point
   std::vector<std::shared_ptr<const LocalFunction>> restitution_;
 
   std::vector<std::string> x_names_, g_names_;

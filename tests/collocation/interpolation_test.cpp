@@ -48,7 +48,7 @@ TEST_F(SwingFixture, PassesThroughTheVariablesAtEveryPoint) {
       const TrajectoryPoint e = traj.at(time, side);
       EXPECT_NEAR(e.q[0], x[L.points[p].q], 1e-9) << "[" << n << ", " << p << "]";
       EXPECT_NEAR(e.v[0], x[L.points[p].v], 1e-9) << "[" << n << ", " << p << "]";
-      if (p > 0 && static_cast<int>(p) != L.end) EXPECT_NEAR(e.a[0], x[L.points[p].a], 1e-9);
+      if (p > 0 && static_cast<int>(p) != L.end) EXPECT_NEAR(e.a[0], x[L.points[p].accel_or_jump], 1e-9);
     }
   }
 }
@@ -100,7 +100,7 @@ TEST_F(SwingFixture, AJumpShowsAsTwoLimits) {
   // the right limit that plus the jump, and jumps() lists it.
   Eigen::VectorXd y = x;
   const auto& L = t->layout()[2];
-  y[L.points[0].a] = 0.7;
+  y[L.points[0].accel_or_jump] = 0.7;
   y[L.points[0].v] += 0.7;
   const CollocationTrajectory traj(*t, y);
   const double tm = traj.meshTimes()[2];

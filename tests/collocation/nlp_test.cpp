@@ -112,9 +112,9 @@ TEST(Transcription, ContinuousRefusesRestitution) {
 
 TEST(Transcription, FirstOrderGetsFourStepsPerElement) {
   const Problem p = testing::pointMassDrop(0.0);
-  const Transcription fo(p, Method::FirstOrder), lg(p, Method::Impulsive);
-  EXPECT_EQ(fo.elements(), 4 * lg.elements());
-  EXPECT_NEAR(fo.variableUpper()[fo.layout()[0].h], p.h_max / 4, 1e-15);
+  const Transcription first_order(p, Method::FirstOrder), lg(p, Method::Impulsive);
+  EXPECT_EQ(first_order.elements(), 4 * lg.elements());
+  EXPECT_NEAR(first_order.variableUpper()[first_order.layout()[0].h], p.h_max / 4, 1e-15);
 }
 
 }  // namespace

@@ -36,7 +36,7 @@ struct SavedSolutionTest : ::testing::Test {
         const double s = t0 + 0.01 * L.tau[p];
         x[L.points[p].q] = 0.15 - kG * s * s / 2;
         x[L.points[p].v] = -kG * s;
-        if (L.points[p].a >= 0) x[L.points[p].a] = p == 0 ? 0.0 : -kG;
+        if (L.points[p].accel_or_jump >= 0) x[L.points[p].accel_or_jump] = p == 0 ? 0.0 : -kG;
       }
       t0 += 0.01;
     }
@@ -144,8 +144,8 @@ TEST_F(SavedSolutionTest, SeedResamplesAnotherMeshAndMethodFromThePolynomials) {
         const double time = t0 + seed[L.h] * L.tau[p2];
         EXPECT_NEAR(seed[L.points[p2].q], 0.15 - kG * time * time / 2, 1e-12) << toString(m) << " t = " << time;
         EXPECT_NEAR(seed[L.points[p2].v], -kG * time, 1e-12);
-        if (L.points[p2].a >= 0 && p2 > 0) {
-          EXPECT_NEAR(seed[L.points[p2].a], -kG, 1e-12);
+        if (L.points[p2].accel_or_jump >= 0 && p2 > 0) {
+          EXPECT_NEAR(seed[L.points[p2].accel_or_jump], -kG, 1e-12);
         }
       }
       t0 += seed[L.h];

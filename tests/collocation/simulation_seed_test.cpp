@@ -39,7 +39,7 @@ TEST(SimulationSeed, DropLandsOnAnElementBoundaryWithTheAnalyticJump) {
     }
     ASSERT_GT(landing, 0) << "no boundary at the impact";
     const auto& L = t.layout()[landing];
-    EXPECT_NEAR(x[L.points[0].a], (1 + e) * v_land, 0.02 * v_land) << "e = " << e;
+    EXPECT_NEAR(x[L.points[0].accel_or_jump], (1 + e) * v_land, 0.02 * v_land) << "e = " << e;
     EXPECT_NEAR(x[L.contacts[0].rn[0]], (1 + e) * v_land, 0.02 * v_land);
     const auto& before = t.layout()[landing - 1];
     EXPECT_NEAR(x[before.points[before.end].v], -v_land, 0.01 * v_land);
@@ -76,11 +76,11 @@ TEST(SimulationSeed, BeltStepIsAnImpactWithoutCollisionAtItsMeshPoint) {
   EXPECT_NEAR(report.events[0], report.mesh_times[5], 1e-12);  // the belt steps at [6, 0]
   const auto& L = t.layout()[5];
   EXPECT_GT(x[L.contacts[0].rn[0]], 0.1);  // the tangential impulse comes with a normal one
-  EXPECT_GT(x.segment(L.points[0].a, 2).norm(), 0.5);  // Δq̇ of the joints
+  EXPECT_GT(x.segment(L.points[0].accel_or_jump, 2).norm(), 0.5);  // Δq̇ of the joints
   // Before the step the tip rests on the belt: no jump, reactions at the collocation points.
   const auto& R = t.layout()[2];
   for (int c : R.collocation) EXPECT_GT(x[R.contacts[0].rn[c]], 1.0);
-  EXPECT_NEAR(x[t.layout()[3].points[0].a], 0, 1e-12);
+  EXPECT_NEAR(x[t.layout()[3].points[0].accel_or_jump], 0, 1e-12);
 }
 
 TEST(SimulationSeed, FillsTheFirstOrderSteps) {

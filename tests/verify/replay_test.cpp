@@ -238,7 +238,7 @@ TEST(Replay, RefusesBadOptions) {
 }
 
 // The belt's step is given on the problem's elements ([6, 0]); the first-order method has
-// first_order_steps_per_element steps per element, so the step happens at step 6·spe's time.
+// first_order_steps_per_element steps per element, so the step happens at step 6·steps_per_element's time.
 TEST(Replay, FirstOrderBeltStepsAtItsElementsMeshTime) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("saltus_replay_fo_" + std::to_string(::getpid()));
@@ -249,13 +249,13 @@ TEST(Replay, FirstOrderBeltStepsAtItsElementsMeshTime) {
   collocation::writeSolution(dir.string(), t, t.perturb(t.nullSeed(), 0.1, 3));  // unequal step lengths
   const collocation::SavedSolution s = collocation::loadSolution(dir.string());
   const scene::Scene scene = replayScene(s);
-  const int spe = p.first_order_steps_per_element;
+  const int steps_per_element = p.first_order_steps_per_element;
   const auto& steps = p.surface_steps.at(0);
   const auto& schedule = scene.surfaces[0].velocity_schedule;
   ASSERT_EQ(schedule.size(), steps.size());
   ASSERT_GT(steps.back().element, 0);
   for (std::size_t i = 0; i < steps.size(); ++i)
-    EXPECT_DOUBLE_EQ(schedule[i].time, s.trajectory().meshTimes()[steps[i].element * spe]) << "step " << i;
+    EXPECT_DOUBLE_EQ(schedule[i].time, s.trajectory().meshTimes()[steps[i].element * steps_per_element]) << "step " << i;
   std::filesystem::remove_all(dir);
 }
 
