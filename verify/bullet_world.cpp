@@ -75,26 +75,25 @@ BulletWorldOptions BulletWorldOptions::bulletDefaults(double dt, BulletSolver so
 }
 
 // Lets a pair collider meet its partner alone (the sphere its box, the box its sphere); leaves
-// the rest to the collision groups.
+// the rest to the collision groups. A pair collider carries its contact's index as its user
+// index (btCollisionObject's default, −1, marks every other object). Also holds the scratch
+// arrays of placing the pair colliders after a step (no allocation per step).
 class BulletWorld::PairFilter final : public btOverlapFilterCallback {
  public:
-  PairFilter(const std::vector<std::unique_ptr<btMultiBodyLinkCollider>>& colliders, const std::vector<int>& pairs)
-      : colliders_(&colliders), pairs_(&pairs) {}
   bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
     const int pa = pairOf(a), pb = pairOf(b);
     if (pa >= 0 || pb >= 0) return pa == pb;
     return (a->m_collisionFilterGroup & b->m_collisionFilterMask) != 0 &&
            (b->m_collisionFilterGroup & a->m_collisionFilterMask) != 0;
   }
+  static int pairOf(const btCollisionObject* object) { return object->getUserIndex(); }
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
 
  private:
-  int pairOf(const btBroadphaseProxy* proxy) const {  // the contact of a pair collider, else −1
-    for (std::size_t i = 0; i < colliders_->size(); ++i)
-      if ((*colliders_)[i].get() == proxy->m_clientObject) return (*pairs_)[i];
-    return -1;
+  static int pairOf(const btBroadphaseProxy* proxy) {
+    return pairOf(static_cast<const btCollisionObject*>(proxy->m_clientObject));
   }
-  const std::vector<std::unique_ptr<btMultiBodyLinkCollider>>* colliders_;
-  const std::vector<int>* pairs_;
 };
 
 BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
@@ -184,7 +183,7 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
   double max_friction = 0;
   const auto colliderOfLink = [&](int link) -> int {
     for (std::size_t i = 0; i < colliders_.size(); ++i)
-      if (collider_link_[i] == link && collider_pair_[i] < 0) return static_cast<int>(i);
+      if (collider_link_[i] == link && PairFilter::pairOf(colliders_[i].get()) < 0) return static_cast<int>(i);
     auto compound = std::make_unique<btCompoundShape>();
     colliders_.push_back(std::make_unique<btMultiBodyLinkCollider>(mb, link));
     btMultiBodyLinkCollider* col = colliders_.back().get();
@@ -199,7 +198,6 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
     else
       mb->getLink(link).m_collider = col;
     collider_link_.push_back(link);
-    collider_pair_.push_back(-1);
     return static_cast<int>(colliders_.size()) - 1;
   };
   for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
@@ -233,14 +231,15 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
   for (auto& col : colliders_)
     world_->addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
                                btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::DefaultFilter);
-  for (std::size_t c = 0; c < scene_.contacts.size(); ++c)
-    if (scene_.contacts[c].surface < 0) addBodyPlanePair(static_cast<int>(c), sphere);
-  if (std::any_of(collider_pair_.begin(), collider_pair_.end(), [](int p) { return p >= 0; })) {
+  if (std::any_of(scene_.contacts.begin(), scene_.contacts.end(), [](const scene::Contact& c) { return c.surface < 0; })) {
     // The pair colliders belong to the one multibody: Bullet only tests its colliders against each
-    // other with self-collision on; the filter then lets each pair's sphere meet its box alone.
+    // other with self-collision on; the filter, installed before they are added (the pair cache
+    // keeps the pairs it accepted), lets each pair's sphere meet its box alone.
     mb->setHasSelfCollision(true);
-    filter_ = std::make_unique<PairFilter>(colliders_, collider_pair_);
+    filter_ = std::make_unique<PairFilter>();
     world_->getPairCache()->setOverlapFilterCallback(filter_.get());
+    for (std::size_t c = 0; c < scene_.contacts.size(); ++c)
+      if (scene_.contacts[c].surface < 0) addBodyPlanePair(static_cast<int>(c), sphere);
     syncPairColliders();
     approximations_.push_back(
         "a plane on a body is the top face of a box on that body's link, moved back by the sphere radius, with the "
@@ -459,7 +458,7 @@ void BulletWorld::addBodyPlanePair(int c, btCollisionShape* sphere) {
     col->setContactProcessingThreshold(options_.contact_processing_threshold);
     col->setActivationState(DISABLE_DEACTIVATION);
     collider_link_.push_back(link);
-    collider_pair_.push_back(c);
+    col->setUserIndex(c);  // the filter's mark
     world_->addCollisionObject(col, kPairGroup, kPairGroup);
     return colliders_.back().get();
   };
@@ -491,15 +490,12 @@ void BulletWorld::addBodyPlanePair(int c, btCollisionShape* sphere) {
 
 // The pair colliders at their links' poses (Bullet moves only each link's m_collider).
 void BulletWorld::syncPairColliders() {
+  if (!filter_) return;  // no contact on a body's plane
   btMultiBody* mb = body_->multiBody();
-  bool any = false;
-  for (int p : collider_pair_) any = any || p >= 0;
-  if (!any) return;
-  btAlignedObjectArray<btQuaternion> world_to_local;
-  btAlignedObjectArray<btVector3> local_origin;
-  mb->forwardKinematics(world_to_local, local_origin);  // updates each link's m_cachedWorldTransform
+  // updates each link's m_cachedWorldTransform
+  mb->forwardKinematics(filter_->world_to_local, filter_->local_origin);
   for (std::size_t i = 0; i < colliders_.size(); ++i) {
-    if (collider_pair_[i] < 0) continue;
+    if (PairFilter::pairOf(colliders_[i].get()) < 0) continue;
     const int link = collider_link_[i];
     const btTransform X = link < 0 ? mb->getBaseWorldTransform() : mb->getLink(link).m_cachedWorldTransform;
     colliders_[i]->setWorldTransform(X);

@@ -186,8 +186,7 @@ class BulletWorld {
   std::vector<bool> surface_moves_;                                // kinematic belt
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;  // per link with contacts
   std::vector<int> collider_link_;                                 // Bullet link of each collider (−1 base)
-  std::vector<int> collider_pair_;  // of each collider: the contact on a body's plane it serves, −1: the link's own
-  std::unique_ptr<PairFilter> filter_;
+  std::unique_ptr<PairFilter> filter_;  // when a contact is on a body's plane
   std::vector<std::pair<int, int>> contact_child_;                 // per contact: collider, sphere child
   std::vector<std::unique_ptr<btMultiBodyJointLimitConstraint>> limits_;
   std::vector<int> limit_coordinate_;
