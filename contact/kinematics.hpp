@@ -104,6 +104,20 @@ Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data,
   return relativeVelocity(pair, data) - surface_velocity;
 }
 
+// The slip velocity (relativeVelocity less the surface's) in the contact frame: its components
+// along the normal and the tangents (t1, t2). Not for a stop.
+template <class S>
+Vec3<S> frameVelocity(const ContactPair& pair, const dynamics::Data<S>& data,
+                      const std::type_identity_t<Vec3<S>>& surface_velocity) {
+  const Vec3<S> v = relativeVelocity(pair, data, surface_velocity);
+  if (pair.body_b < 0)
+    return Vec3<S>(pair.normal_B.cast<S>().dot(v), pair.tangents_B.col(0).cast<S>().dot(v),
+                   pair.tangents_B.col(1).cast<S>().dot(v));
+  const Vec3<S> v_B = dynamics::bodyRotation(data, pair.body_b).transpose() * v;  // in B's coordinates
+  return Vec3<S>(pair.normal_B.cast<S>().dot(v_B), pair.tangents_B.col(0).cast<S>().dot(v_B),
+                 pair.tangents_B.col(1).cast<S>().dot(v_B));
+}
+
 // Normal component of the relative velocity, n·(J q̇) (a surface's own motion is tangent to it,
 // so it has none); sign·q̇_i for a stop.
 template <class S>
@@ -131,10 +145,10 @@ Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, 
 // for every coordinate k on the bodies' paths to the root, as dynamics::pointJacobian builds its
 // columns: +(s_k × x) on A's path, −(s_k × x) on B's, so a common ancestor's two calls cancel.
 template <class S, class F>
-void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
+SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
                            F&& fn) {
   const Vec3<S> x = contactPoint(pair, data);
-  auto path = [&](int body, bool negate) {  // (a negation, not a product: cheap for AD scalars)
+  auto path = [&](int body, bool negate) SALTUS_LAMBDA_INLINE {  // (a negation, not a product: cheap for AD scalars)
     for (int j = body; j >= 0; j = model.parent[j])
       for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
         const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
@@ -154,7 +168,7 @@ template <class S>
 void relativeJacobian(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
                       dynamics::MatOut<dynamics::Mat3X<S>> J) {
   J.setZero();
-  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { J.col(k) += c; });
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { J.col(k) += c; });
 }
 
 // The normal row of the pair's constraint (1 × nv): nᵀ J for a point on a plane, sign·e_iᵀ for a stop.
@@ -168,7 +182,7 @@ void normalRow(const dynamics::Model<S>& model, const dynamics::Data<S>& data, c
     return;
   }
   const Vec3<S> n = planeNormal(pair, data);
-  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { row[k] += n.dot(c); });
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { row[k] += n.dot(c); });
 }
 
 // The generalised force of a reaction with normal component r_n and tangential force f_t (world
@@ -182,7 +196,7 @@ void addReaction(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
     return;
   }
   const Vec3<S> f = planeNormal(pair, data) * r_n + f_t;
-  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) { tau[k] += c.dot(f); });
+  forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { tau[k] += c.dot(f); });
 }
 
 }  // namespace saltus::contact

@@ -144,7 +144,7 @@ Vec3<S> bodyPosition(const Data<S>& data, int body) {  // p_WB
 // World position of a point fixed on body b, given in body coordinates (p_BP).
 // Needs forwardKinematics(q).
 template <class S>
-Vec3<S> pointPosition(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+SALTUS_INLINE Vec3<S> pointPosition(const Data<S>& data, int body, const Vec3<S>& p_BP) {
   if (body < 0) return p_BP;
   const Transform<S>& X = data.X_world[body];
   return X.r + X.E.transpose() * p_BP;
@@ -152,7 +152,7 @@ Vec3<S> pointPosition(const Data<S>& data, int body, const Vec3<S>& p_BP) {
 
 // World linear velocity of a point fixed on body b (v_WP). Needs forwardKinematics(q, v).
 template <class S>
-Vec3<S> pointVelocity(const Data<S>& data, int body, const Vec3<S>& p_BP) {
+SALTUS_INLINE Vec3<S> pointVelocity(const Data<S>& data, int body, const Vec3<S>& p_BP) {
   if (body < 0) return Vec3<S>::Zero();
   const Motion<S>& vb = data.v[body];
   return data.X_world[body].E.transpose() * (vb.v + vb.w.cross(p_BP));

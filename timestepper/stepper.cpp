@@ -154,21 +154,20 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
   m_ = f_ = 0;
   for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
     const contact::ContactPair& pair = pairs_[c];
-    if (!contact::withinExtent(pair, data_)) continue;  // beyond a body's plane: touches nothing
     const double gap = contact::gap(pair, data_, q_theta_.data());
-    double vn_free, vn;
+    double vn_free;
     Eigen::Vector3d normal;
     if (pair.isStop()) {
       vn_free = pair.sign * v_free_[pair.coordinate];
-      vn = pair.sign * v_[pair.coordinate];
     } else {
       contact::relativeJacobian(model, data_, pair, J_point_[c]);
       normal = contact::planeNormal(pair, data_);
       vn_free = normal.dot(J_point_[c] * v_free_);
-      vn = normal.dot(J_point_[c] * v_);
     }
     const double gap_end = gap + th_h * vn_free;
     if (gap > margin && (!predict || gap_end > margin)) continue;
+    if (!contact::withinExtent(pair, data_)) continue;  // beyond a body's plane: touches nothing
+    const double vn = pair.isStop() ? pair.sign * v_[pair.coordinate] : normal.dot(J_point_[c] * v_);
     if (predict && reports_[c].gap > margin)  // open at the start, closing within the step
       t_close = std::min(t_close, impactTime(reports_[c].gap, reports_[c].vn, gap_end, h, options_.theta,
                                              restitution_threshold_));
@@ -324,11 +323,10 @@ bool TimeStepper::measureContacts() {
     if (pair.isStop()) {
       r.vn = contact::normalVelocity(pair, data_, v_.data());
     } else {
-      const contact::PlaneFrame<double> f = contact::planeFrame(pair, data_);
-      const Eigen::Vector3d v_rel = contact::relativeVelocity(pair, data_, surfaceVelocity(pair, t_));
-      r.vn = f.normal.dot(v_rel);
-      r.vt1 = f.tangents.col(0).dot(v_rel);
-      r.vt2 = f.tangents.col(1).dot(v_rel);
+      const Eigen::Vector3d v_frame = contact::frameVelocity(pair, data_, surfaceVelocity(pair, t_));
+      r.vn = v_frame[0];
+      r.vt1 = v_frame[1];
+      r.vt2 = v_frame[2];
     }
     r.over_plane = contact::withinExtent(pair, data_);
     if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration

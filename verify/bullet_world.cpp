@@ -379,15 +379,14 @@ void BulletWorld::measure() {
   dynamics::forwardKinematics(model, data_, q_, v_);
   for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
     const contact::ContactPair& pair = pairs_[c];
-    const contact::PlaneFrame<double> f = contact::planeFrame(pair, data_);
     const Eigen::Vector3d surface_velocity =
         pair.body_b < 0 ? scene_.surfaces[pair.surface].velocity(t_) : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d vrel = contact::relativeVelocity(pair, data_, surface_velocity);
+    const Eigen::Vector3d v_frame = contact::frameVelocity(pair, data_, surface_velocity);
     BulletContactReport& r = reports_[c];
     r.gap = contact::gap(pair, data_, q_.data());
-    r.vn = f.normal.dot(vrel);
-    r.vt1 = f.tangents.col(0).dot(vrel);
-    r.vt2 = f.tangents.col(1).dot(vrel);
+    r.vn = v_frame[0];
+    r.vt1 = v_frame[1];
+    r.vt2 = v_frame[2];
     r.active = false;
     r.pn = r.pt1 = r.pt2 = 0;
     if (contact::withinExtent(pair, data_))  // below a body's plane beyond its edge is no penetration

@@ -70,6 +70,7 @@ TEST(ContactKinematics, PointOnTheWorldGround) {
   const Eigen::Vector3d belt(0.25, 0, 0);
   EXPECT_NEAR(normalVelocity(pair, data, v.data()), -1.5, 1e-14);
   EXPECT_TRUE(relativeVelocity(pair, data, belt).isApprox(Eigen::Vector3d(0.15, 0, -1.5), 1e-14));
+  EXPECT_TRUE(frameVelocity(pair, data, belt).isApprox(Eigen::Vector3d(-1.5, 0.15, 0), 1e-14));  // (n, t1, t2)
   Eigen::Matrix<double, 1, Eigen::Dynamic> row(model.nv());
   normalRow(model, data, pair, row);
   EXPECT_NEAR(row[z], 1.0, 1e-14);
@@ -123,6 +124,13 @@ TEST(ContactKinematics, BodyOnBodyRatesAgreeWithFiniteDifferences) {
     const Eigen::Vector3d expected = dynamics::pointVelocity(data, s.pair.body_a, s.pair.point_A) -
                                      dynamics::pointVelocity(data, s.pair.body_b, x_deck);
     EXPECT_TRUE(relativeVelocity(s.pair, data, zero).isApprox(expected, 1e-12));
+    // In the contact frame: the components along the plane's normal and tangents.
+    const PlaneFrame<double> frame = planeFrame(s.pair, data);
+    const Eigen::Vector3d in_frame = frameVelocity(s.pair, data, zero);
+    EXPECT_NEAR(in_frame[0], frame.normal.dot(expected), 1e-12);
+    EXPECT_NEAR(in_frame[0], normalVelocity(s.pair, data, v.data()), 1e-12);
+    EXPECT_NEAR(in_frame[1], frame.tangents.col(0).dot(expected), 1e-12);
+    EXPECT_NEAR(in_frame[2], frame.tangents.col(1).dot(expected), 1e-12);
     // Virtual power: a reaction's generalised force · v = f · relative velocity.
     const Eigen::Vector3d f_t = frictionDirections(s.pair, data).col(0) * 0.7;
     Eigen::VectorXd tau = Eigen::VectorXd::Zero(nv);
