@@ -26,13 +26,6 @@ std::string tempName(const std::string& path, const std::string& suffix = "") {
 [[noreturn]] void pngError(png_structp, png_const_charp message) { throw std::runtime_error(message); }
 void pngWarning(png_structp, png_const_charp) {}
 
-struct FileCloser {
-  std::FILE* f;
-  ~FileCloser() {
-    if (f) std::fclose(f);
-  }
-};
-
 std::string shellQuote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -70,14 +63,12 @@ std::string tail(const std::string& path, int lines) {
 void writePng(const std::string& path, const std::vector<std::uint8_t>& rgb, int width, int height) {
   if (rgb.size() != static_cast<std::size_t>(width) * height * 3)
     throw std::runtime_error(path + ": image buffer does not hold " + std::to_string(width) + "x" + std::to_string(height) + " RGB pixels");
-  const std::string tmp = tempName(path);
-  FileCloser file{std::fopen(tmp.c_str(), "wb")};
-  if (!file.f) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
+  scene::AtomicFile file(path);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   try {
     if (!info) throw std::runtime_error("out of memory");
-    png_init_io(png, file.f);
+    png_init_io(png, file.stream());
     png_set_IHDR(png, info, width, height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, 3);  // frames: speed over size
@@ -87,15 +78,9 @@ void writePng(const std::string& path, const std::vector<std::uint8_t>& rgb, int
     png_destroy_write_struct(&png, &info);
   } catch (const std::exception& e) {
     png_destroy_write_struct(&png, &info);
-    std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot write PNG (" + e.what() + ")");
   }
-  const bool failed = std::fclose(file.f) != 0;
-  file.f = nullptr;
-  if (failed || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
-  }
+  file.commit();
 }
 
 std::vector<std::uint8_t> readPng(const std::string& path, int* width, int* height) {
@@ -115,7 +100,8 @@ std::vector<std::uint8_t> readPng(const std::string& path, int* width, int* heig
 }
 
 VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
-    : path_(path), tmp_path_(tempName(path, ".mp4")), log_path_(tempName(path, ".ffmpeg.log")), width_(width),
+    : path_(path), video_(path, scene::AtomicFile::Mode::External, ".mp4"), log_path_(tempName(path, ".ffmpeg.log")),
+      width_(width),
       height_(height) {
   if (width % 2 != 0 || height % 2 != 0)
     throw std::runtime_error(path + ": H.264 (yuv420p) needs an even width and height, got " + std::to_string(width) +
@@ -130,7 +116,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
   const std::string command = shellQuote(program_) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
                               std::to_string(width) + "x" + std::to_string(height) + " -framerate " + rate +
                               " -i - -an -c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -movflags +faststart -f mp4 " +
-                              shellQuote(tmp_path_) + " 2>" + shellQuote(log_path_);
+                              shellQuote(video_.temporaryPath()) + " 2>" + shellQuote(log_path_);
   // A pipe whose reader died must fail the write (EPIPE), not kill the process.
   std::signal(SIGPIPE, SIG_IGN);
   pipe_ = ::popen(command.c_str(), "w");
@@ -139,7 +125,6 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
 
 VideoWriter::~VideoWriter() {
   if (pipe_) ::pclose(pipe_);
-  if (!finished_) std::remove(tmp_path_.c_str());
   std::remove(log_path_.c_str());
 }
 
@@ -163,9 +148,7 @@ void VideoWriter::finish() {
   if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error(failure(WIFEXITED(status) ? "failed with exit status " + std::to_string(WEXITSTATUS(status))
                                                        : std::string("was killed")));
-  if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
-    throw std::runtime_error(path_ + ": cannot rename the finished video into place (" + std::strerror(errno) + ")");
-  finished_ = true;
+  video_.commit();
 }
 
 }  // namespace saltus::render

@@ -1,12 +1,14 @@
 // Writing frames: PNG files through libpng, and H.264 MP4 videos through the ffmpeg program (raw
-// RGB frames piped to `ffmpeg -f rawvideo`). Both write to a temporary name beside the target and
-// rename it when complete, so a failed run leaves no half-written file.
+// RGB frames piped to `ffmpeg -f rawvideo`). Both write through scene::AtomicFile (a temporary name
+// beside the target, renamed when complete), so a failed run leaves no half-written file.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
+
+#include "scene/atomic_file.hpp"
 
 namespace saltus::render {
 
@@ -35,10 +37,11 @@ class VideoWriter {
 
  private:
   std::string failure(const std::string& what) const;
-  std::string path_, tmp_path_, log_path_, program_;
+  std::string path_;
+  scene::AtomicFile video_;  // written by ffmpeg
+  std::string log_path_, program_;
   int width_, height_;
   std::FILE* pipe_ = nullptr;
-  bool finished_ = false;
 };
 
 }  // namespace saltus::render

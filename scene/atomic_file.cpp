@@ -3,35 +3,50 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
 namespace saltus::scene {
 
-void writeFileAtomically(const std::string& path, const std::string& text) {
+AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
+    : path_(std::move(path)), tmp_path_(path_ + ".tmp-" + std::to_string(::getpid()) + suffix) {
   std::error_code ec;
-  const auto status = std::filesystem::symlink_status(path, ec);
+  const auto status = std::filesystem::symlink_status(path_, ec);
   if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-    throw std::runtime_error(path + ": exists and is not a regular file; refusing to replace it");
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (!f) throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
-  // Flushed to the disk before the rename: after a crash the target is the old file or the
-  // whole new one, never an empty or cut one.
-  const bool write_ok = std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0 &&
-                        ::fsync(::fileno(f)) == 0;
-  const bool close_ok = std::fclose(f) == 0;
-  if (!write_ok || !close_ok) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": writing failed (" + std::strerror(errno) + ")");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    throw std::runtime_error(path_ + ": exists and is not a regular file; refusing to replace it");
+  if (mode == Mode::External) return;
+  file_ = std::fopen(tmp_path_.c_str(), "wb");
+  if (!file_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_) std::fclose(file_);
+  if (!committed_) std::remove(tmp_path_.c_str());
+}
+
+void AtomicFile::commit() {
+  if (committed_) return;
+  if (file_) {
+    // Flushed to the disk before the rename: after a crash the target is the old file or the
+    // whole new one, never an empty or cut one.
+    const bool write_ok = std::ferror(file_) == 0 && std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
     const int err = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the finished file into place (" + std::strerror(err) + ")");
+    const bool close_ok = std::fclose(file_) == 0;
+    file_ = nullptr;
+    if (!write_ok || !close_ok)
+      throw std::runtime_error(path_ + ": writing failed (" + std::strerror(write_ok ? errno : err) + ")");
   }
+  if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
+    throw std::runtime_error(path_ + ": cannot rename the finished file into place (" + std::strerror(errno) + ")");
+  committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  AtomicFile file(path);
+  if (std::fwrite(text.data(), 1, text.size(), file.stream()) != text.size())
+    throw std::runtime_error(path + ": writing failed (" + std::strerror(errno) + ")");
+  file.commit();
 }
 
 }  // namespace saltus::scene

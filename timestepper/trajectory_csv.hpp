@@ -6,6 +6,8 @@
 // beside the target and renamed on commit(), so an interrupted run leaves nothing half-written.
 #pragma once
 
+#include "scene/atomic_file.hpp"
+
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -17,23 +19,18 @@ namespace saltus::timestepper {
 
 class TrajectoryCsvWriter {
  public:
-  // Opens path + ".tmp-<pid>" for writing and writes the header; throws std::runtime_error
-  // naming the file when it cannot.
+  // Opens a temporary file beside `path` (scene/atomic_file.hpp) and writes the header; throws
+  // std::runtime_error naming the file when it cannot. Destroyed uncommitted, it leaves nothing.
   TrajectoryCsvWriter(const std::string& path, const Scene& scene);
-  ~TrajectoryCsvWriter();  // removes the temporary file unless committed
-  TrajectoryCsvWriter(const TrajectoryCsvWriter&) = delete;
-  TrajectoryCsvWriter& operator=(const TrajectoryCsvWriter&) = delete;
 
   void writeRow(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                 const std::vector<ContactReport>& contacts);
   // Flushes, closes and renames onto the target path.
-  void commit();
+  void commit() { file_.commit(); }
 
  private:
-  std::string path_, tmp_path_;
-  std::FILE* file_ = nullptr;
+  scene::AtomicFile file_;
   std::vector<bool> spatial_;  // per contact column group: vt1/vt2 instead of vt
-  bool committed_ = false;
 };
 
 }  // namespace saltus::timestepper

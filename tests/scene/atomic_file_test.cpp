@@ -1,0 +1,106 @@
+// scene/atomic_file.hpp: the target appears whole or not at all, and only a regular file is replaced.
+#include "scene/atomic_file.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace saltus::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A fresh folder per test, removed afterwards.
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("saltus_atomic_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  // The folder's entries other than `keep`.
+  int strayFiles(const std::string& keep) const {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir_)) n += e.path().filename() != keep;
+    return n;
+  }
+  fs::path dir_;
+};
+
+TEST_F(AtomicFileTest, WritesTheWholeTextAndLeavesNoTemporary) {
+  const fs::path target = dir_ / "out.txt";
+  writeFileAtomically(target.string(), "first\n");
+  writeFileAtomically(target.string(), "second, longer\n");  // replaces a regular file
+  EXPECT_EQ(readText(target), "second, longer\n");
+  EXPECT_EQ(strayFiles("out.txt"), 0);
+}
+
+TEST_F(AtomicFileTest, AnUncommittedFileLeavesTheTargetAsItWas) {
+  const fs::path target = dir_ / "out.txt";
+  writeFileAtomically(target.string(), "old\n");
+  {
+    AtomicFile file(target.string());
+    std::fputs("new, interrupted", file.stream());
+    EXPECT_TRUE(fs::exists(file.temporaryPath()));
+    EXPECT_EQ(fs::path(file.temporaryPath()).parent_path(), target.parent_path());  // same file system
+  }  // destroyed before commit(), as by an exception
+  EXPECT_EQ(readText(target), "old\n");
+  EXPECT_EQ(strayFiles("out.txt"), 0);
+}
+
+TEST_F(AtomicFileTest, RefusesToReplaceWhatIsNotARegularFile) {
+  const fs::path real = dir_ / "real.txt", link = dir_ / "link.txt", folder = dir_ / "folder";
+  writeFileAtomically(real.string(), "kept\n");
+  fs::create_symlink(real, link);
+  fs::create_directory(folder);
+  for (const fs::path& target : {link, folder, fs::path("/dev/null")}) {
+    try {
+      AtomicFile file(target.string());
+      ADD_FAILURE() << target << " was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(target.string() + ": exists and is not a regular file"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(readText(real), "kept\n");
+  EXPECT_TRUE(fs::is_directory(folder));
+}
+
+TEST_F(AtomicFileTest, AFileWrittenByAnotherProgramIsRenamedOnCommit) {
+  const fs::path target = dir_ / "video.mp4";
+  AtomicFile file(target.string(), AtomicFile::Mode::External, ".mp4");
+  EXPECT_EQ(file.stream(), nullptr);
+  EXPECT_EQ(fs::path(file.temporaryPath()).extension(), ".mp4");
+  std::ofstream(file.temporaryPath()) << "encoded";  // as the encoder would
+  EXPECT_FALSE(fs::exists(target));
+  file.commit();
+  EXPECT_EQ(readText(target), "encoded");
+  EXPECT_EQ(strayFiles("video.mp4"), 0);
+}
+
+TEST_F(AtomicFileTest, AMissingFolderIsAnErrorNamingTheTarget) {
+  const fs::path target = dir_ / "no_such_folder" / "out.txt";
+  try {
+    writeFileAtomically(target.string(), "x");
+    ADD_FAILURE() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(target.string() + ": cannot write"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace saltus::scene
