@@ -1,6 +1,6 @@
 // saltus simulate SCENE: runs the Moreau–Stewart–Trinkle time-stepper (timestepper/stepper.hpp)
 // on a scenario (built-in name or file) and writes the trajectory as CSV
-// (timestepper/trajectory_csv.hpp): a row at t = 0 and one after every step. The file appears
+// (scene/trajectory_csv.hpp): a row at t = 0 and one after every step. The file appears
 // only when the whole run succeeded. A one-line summary goes to standard error.
 #include <chrono>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "scene/scenario.hpp"
-#include "timestepper/trajectory_csv.hpp"
+#include "scene/trajectory_csv.hpp"
 
 namespace saltus::cli {
 
@@ -38,6 +38,23 @@ struct Sample {
   std::vector<ContactReport> contacts;
 };
 
+// A row of the trajectory file: the state and every contact's report (no inputs, no forces).
+void writeRow(scene::TrajectoryCsvWriter& writer, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+              const std::vector<ContactReport>& contacts) {
+  static const Eigen::VectorXd no_inputs;
+  writer.beginRow(t, q, v, no_inputs);
+  for (const ContactReport& r : contacts) {
+    scene::ContactRow c;
+    c.gap = r.gap;
+    c.vn = r.vn;
+    c.vt = {r.vt1, r.vt2};
+    c.pn = r.pn;
+    c.pt = {r.pt1, r.pt2};
+    writer.contact(c);
+  }
+  writer.endRow();
+}
+
 int simulate(const SimulateOptions& opt) {
   checkStepOptions("--dt", opt.dt, opt.theta);
   if (opt.duration && (!(*opt.duration > 0) || !std::isfinite(*opt.duration)))
@@ -55,8 +72,8 @@ int simulate(const SimulateOptions& opt) {
   const long steps = stepCount(duration, opt.dt);
   const double e0 = stepper.energy();
 
-  TrajectoryCsvWriter writer(opt.out, scene);
-  writer.writeRow(stepper.time(), stepper.q(), stepper.v(), stepper.contacts());
+  scene::TrajectoryCsvWriter writer(opt.out, scene::trajectoryLayout(scene));
+  writeRow(writer, stepper.time(), stepper.q(), stepper.v(), stepper.contacts());
 
   // Steps in chunks: the clock runs around the stepping only, rows are written between chunks.
   constexpr long kChunk = 1024;
@@ -77,7 +94,7 @@ int simulate(const SimulateOptions& opt) {
     wall += std::chrono::steady_clock::now() - start;
     for (long i = 0; i < n; ++i) {
       const Sample& s = chunk[static_cast<std::size_t>(i)];
-      writer.writeRow(s.t, s.q, s.v, s.contacts);
+      writeRow(writer, s.t, s.q, s.v, s.contacts);
     }
     done += n;
   }

@@ -77,42 +77,19 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
 
 void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples) {
   const auto& model = t.problem().scene.model;
-  std::ostringstream out;
-  out << std::setprecision(12);  // %.12g
-  out << "t";
-  for (const auto& c : model.coordinate_name) out << ",q." << c;
-  for (const auto& c : model.coordinate_name) out << ",v." << c;
-  for (int i : t.problem().inputs) out << ",u." << model.coordinate_name[i];
-  std::vector<bool> spatial;
-  for (const ContactPair& c : t.contacts()) {
-    spatial.push_back(c.k() > 2);
-    const std::string p = ",contact." + c.name + ".";
-    auto pair = [&](const std::string& name) { return spatial.back() ? p + name + "1" + p + name + "2" : p + name; };
-    out << p + "gap" + p + "vn" + pair("vt") + p + "rn" + pair("rt") + p + "pn" + pair("pt");
-  }
-  out << "\n";
-  for (const Sample& s : samples) {
-    out << s.t;
-    for (int i = 0; i < s.q.size(); ++i) out << "," << s.q[i];
-    for (int i = 0; i < s.v.size(); ++i) out << "," << s.v[i];
-    for (int i = 0; i < s.u.size(); ++i) out << "," << s.u[i];
-    for (std::size_t c = 0; c < s.contacts.size(); ++c) {
-      const ContactSample& cs = s.contacts[c];
-      auto pair = [&](const Eigen::Vector2d& v) {
-        out << "," << v[0];
-        if (spatial[c]) out << "," << v[1];
-      };
-      out << "," << cs.gap << "," << cs.vn;
-      pair(cs.vt);
-      out << "," << cs.rn;
-      pair(cs.rt);
-      out << "," << cs.pn;
-      pair(cs.pt);
-    }
-    out << "\n";
-  }
+  scene::TrajectoryLayout layout;
+  layout.coordinates = model.coordinate_name;
+  for (int i : t.problem().inputs) layout.inputs.push_back(model.coordinate_name[i]);
+  for (const ContactPair& c : t.contacts()) layout.contacts.push_back({c.name, c.k() > 2});
+  layout.forces = true;
   try {
-    scene::writeFileAtomically(path, out.str());
+    scene::TrajectoryCsvWriter writer(path, std::move(layout));
+    for (const Sample& s : samples) {
+      writer.beginRow(s.t, s.q, s.v, s.u);
+      for (const ContactSample& c : s.contacts) writer.contact(c);
+      writer.endRow();
+    }
+    writer.commit();
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": cannot write the trajectory (" + e.what() + ")");
   }

@@ -8,17 +8,13 @@
 #include <vector>
 
 #include "collocation/transcription.hpp"
+#include "scene/trajectory_csv.hpp"
 
 namespace saltus::collocation {
 
-struct ContactSample {
-  double gap = 0, vn = 0;
-  Eigen::Vector2d vt = Eigen::Vector2d::Zero();  // slip relative to the surface, along (t1, t2)
-  double rn = 0;                                 // finite normal force (collocation points)
-  Eigen::Vector2d rt = Eigen::Vector2d::Zero();  // finite tangential force on the body
-  double pn = 0;                                 // normal impulse (impulsive [n, 0])
-  Eigen::Vector2d pt = Eigen::Vector2d::Zero();  // tangential impulse
-};
+// A contact's values at a sample: gap, normal and slip velocity, finite force (collocation
+// points) and impulse (impulsive [n, 0]), the tangential ones along the surface's tangents.
+using ContactSample = scene::ContactRow;
 
 struct Sample {
   double t = 0;
@@ -29,9 +25,8 @@ struct Sample {
 
 std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x);
 
-// Writes the samples as CSV (temporary file, then rename): t, q.<c>…, v.<c>…, u.<input>…, and per
-// contact contact.<name>.gap, .vn, .vt (.vt1, .vt2 for k ≥ 4), .rn, .rt (.rt1, .rt2), .pn,
-// .pt (.pt1, .pt2). Throws std::runtime_error naming the file when it cannot write.
+// Writes the samples as a trajectory CSV (scene/trajectory_csv.hpp) with the inputs and the force
+// columns. Throws std::runtime_error naming the file when it cannot write.
 void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples);
 
 // The paper's mean local error (§V.D, Fig. 7): on every element, the difference between the

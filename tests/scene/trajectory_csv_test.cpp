@@ -1,0 +1,124 @@
+// scene/trajectory_csv.hpp: the header names every column the readers look up, each row holds
+// what it was given, and an unfinished file leaves nothing behind.
+#include "scene/trajectory_csv.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace saltus::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> splitLine(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream s(line);
+  for (std::string f; std::getline(s, f, ',');) fields.push_back(f);
+  return fields;
+}
+
+std::vector<std::vector<std::string>> readLines(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(splitLine(line));
+  return lines;
+}
+
+TrajectoryLayout twoContacts(bool forces) {
+  TrajectoryLayout layout;
+  layout.coordinates = {"x", "z"};
+  layout.inputs = {"x"};
+  layout.contacts = {{"foot", true}, {"stop", false}};
+  layout.forces = forces;
+  return layout;
+}
+
+class TrajectoryCsvTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("saltus_trajectory_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(TrajectoryCsvTest, HeaderAndRowsOfAnOptimisersFile) {
+  const fs::path path = dir_ / "trajectory.csv";
+  TrajectoryCsvWriter writer(path.string(), twoContacts(true));
+  ContactRow foot;
+  foot.gap = 0.25;
+  foot.vn = -1.5;
+  foot.vt = {0.5, -0.125};
+  foot.rn = 9.81;
+  foot.rt = {1, 2};
+  foot.pn = 0.75;
+  foot.pt = {3, 4};
+  ContactRow stop;
+  stop.gap = 0.1;
+  stop.vn = 0.2;
+  stop.vt = {7, 8};  // a planar group writes the first of each pair only
+  stop.pn = 0.3;
+  writer.beginRow(0.001, Eigen::Vector2d(1, 2), Eigen::Vector2d(3, 4), Eigen::VectorXd::Constant(1, 5));
+  writer.contact(foot);
+  writer.contact(stop);
+  writer.endRow();
+  writer.commit();
+  const auto lines = readLines(path);
+  ASSERT_EQ(lines.size(), 2u);
+  const std::vector<std::string> header = {
+      "t", "q.x", "q.z", "v.x", "v.z", "u.x",
+      "contact.foot.gap", "contact.foot.vn", "contact.foot.vt1", "contact.foot.vt2", "contact.foot.rn",
+      "contact.foot.rt1", "contact.foot.rt2", "contact.foot.pn", "contact.foot.pt1", "contact.foot.pt2",
+      "contact.stop.gap", "contact.stop.vn", "contact.stop.vt", "contact.stop.rn", "contact.stop.rt",
+      "contact.stop.pn", "contact.stop.pt"};
+  EXPECT_EQ(lines[0], header);
+  const std::vector<double> row = {0.001, 1, 2, 3, 4, 5, 0.25, -1.5, 0.5, -0.125, 9.81, 1, 2, 0.75, 3, 4,
+                                   0.1, 0.2, 7, 0, 0, 0.3, 0};
+  ASSERT_EQ(lines[1].size(), row.size());
+  for (std::size_t i = 0; i < row.size(); ++i) EXPECT_EQ(std::stod(lines[1][i]), row[i]) << header[i];
+}
+
+TEST_F(TrajectoryCsvTest, AStepperFileHasNoForceColumnsAndKeepsTwelveDigits) {
+  const fs::path path = dir_ / "sim.csv";
+  TrajectoryLayout layout = twoContacts(false);
+  layout.inputs.clear();
+  TrajectoryCsvWriter writer(path.string(), layout);
+  const double third = 1.0 / 3.0;
+  writer.beginRow(third, Eigen::Vector2d(third, 0), Eigen::Vector2d::Zero(), Eigen::VectorXd());
+  writer.contact(ContactRow{});
+  writer.contact(ContactRow{});
+  writer.endRow();
+  writer.commit();
+  const auto lines = readLines(path);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].size(), 5u + 7u + 5u);  // t, q, v; gap vn vt1 vt2 pn pt1 pt2; gap vn vt pn pt
+  EXPECT_EQ(lines[1].size(), lines[0].size());
+  EXPECT_NEAR(std::stod(lines[1][0]), third, 1e-12);
+  EXPECT_NEAR(std::stod(lines[1][1]), third, 1e-12);
+}
+
+TEST_F(TrajectoryCsvTest, RowsThatDoNotMatchTheHeaderAreRefusedAndNothingIsLeft) {
+  const fs::path path = dir_ / "bad.csv";
+  {
+    TrajectoryCsvWriter writer(path.string(), twoContacts(false));
+    EXPECT_THROW(writer.beginRow(0, Eigen::VectorXd::Zero(3), Eigen::Vector2d::Zero(), Eigen::VectorXd::Zero(1)),
+                 std::invalid_argument);
+    writer.beginRow(0, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::VectorXd::Zero(1));
+    writer.contact(ContactRow{});
+    EXPECT_THROW(writer.endRow(), std::invalid_argument);  // one contact short
+    writer.contact(ContactRow{});
+    EXPECT_THROW(writer.contact(ContactRow{}), std::invalid_argument);  // one too many
+  }  // never committed
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+}  // namespace
+}  // namespace saltus::scene
