@@ -145,10 +145,11 @@ Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, 
 // for every coordinate k on the bodies' paths to the root, as dynamics::pointJacobian builds its
 // columns: +(s_k × x) on A's path, −(s_k × x) on B's, so a common ancestor's two calls cancel.
 template <class S, class F>
-SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
-                           F&& fn) {
+SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
+                                         const ContactPair& pair, F&& fn) {
   const Vec3<S> x = contactPoint(pair, data);
-  auto path = [&](int body, bool negate) SALTUS_LAMBDA_INLINE {  // (a negation, not a product: cheap for AD scalars)
+  // (a negation, not a product: cheap for AD scalars)
+  auto path = [&](int body, bool negate) SALTUS_LAMBDA_INLINE {
     for (int j = body; j >= 0; j = model.parent[j])
       for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
         const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);

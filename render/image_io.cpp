@@ -17,6 +17,7 @@ namespace saltus::render {
 
 namespace {
 
+// A scratch file beside `path` (the encoder's log).
 std::string tempName(const std::string& path, const std::string& suffix = "") {
   return path + ".tmp-" + std::to_string(::getpid()) + suffix;
 }
@@ -100,7 +101,9 @@ std::vector<std::uint8_t> readPng(const std::string& path, int* width, int* heig
 }
 
 VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
-    : path_(path), video_(path, scene::AtomicFile::Mode::External, ".mp4"), log_path_(tempName(path, ".ffmpeg.log")),
+    : path_(path),
+      video_(path, scene::AtomicFile::Mode::External, ".mp4"),
+      log_path_(tempName(path, ".ffmpeg.log")),
       width_(width),
       height_(height) {
   if (width % 2 != 0 || height % 2 != 0)
