@@ -1,11 +1,8 @@
 #include "collocation/solution.hpp"
 
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 
 #include "dynamics/aba.hpp"
-#include "scene/atomic_file.hpp"
 
 namespace saltus::collocation {
 
@@ -76,11 +73,10 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
 }
 
 void writeTrajectoryCsv(const std::string& path, const Transcription& t, const std::vector<Sample>& samples) {
+  // The scene's columns (the transcription's contacts are the scene's pairs), with inputs and forces.
   const auto& model = t.problem().scene.model;
-  scene::TrajectoryLayout layout;
-  layout.coordinates = model.coordinate_name;
+  scene::TrajectoryLayout layout = scene::trajectoryLayout(t.problem().scene);
   for (int i : t.problem().inputs) layout.inputs.push_back(model.coordinate_name[i]);
-  for (const ContactPair& c : t.contacts()) layout.contacts.push_back({c.name, c.k() > 2});
   layout.forces = true;
   try {
     scene::TrajectoryCsvWriter writer(path, std::move(layout));
