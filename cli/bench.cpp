@@ -85,7 +85,7 @@ void drawCharts(const std::string& kind, const fs::path& csv, const fs::path& pn
   std::error_code ec;
   fs::remove(png, ec);
   fs::remove(svg, ec);
-  runChartScript(kind, csv.string(), png.string(), svg.string());
+  drawChart(kind, csv.string(), png.string(), svg.string());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -311,7 +311,7 @@ int stability(const StabilityOptions& opt) {
   const std::vector<double> restitutions = axis("restitution", opt.restitutions, kDefaultRestitutions);
   for (double e : restitutions)
     if (e > 1) throw UsageError("--restitutions: " + formatNumber(e) + " is not in [0, 1]");
-  const bool exempt = hasMovingSurfaceOrInput(base);
+  const bool exempt = isDriven(base);
   const fs::path dir = prepareOutputDirectory(opt.out);
   const double duration = opt.duration.value_or(base.duration);
 

@@ -32,10 +32,6 @@ dynamics::BaseType parseBaseOption(const std::string& option, const std::string&
   throw UsageError(option + ": expected fixed, planar or free, got '" + value + "'");
 }
 
-dynamics::Model<double> loadModel(const std::string& path, dynamics::BaseType base) {
-  return dynamics::loadUrdfFile(path, base);
-}
-
 Eigen::VectorXd parseCoordinateVector(const std::string& option, const std::string& text,
                                       const std::vector<std::string>& coordinates) {
   const std::size_t n = coordinates.size();

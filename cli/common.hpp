@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "dynamics/model.hpp"
+#include "saltus/saltus.hpp"
 
 namespace saltus::cli {
 
@@ -44,8 +45,8 @@ Command addSweepCommand(CLI::App& saltus);     // sweep.cpp: a grid of seeded so
 // The --base option's value: fixed, planar or free.
 dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value);
 
-// Reads a URDF model; throws dynamics::ModelError naming the file and element.
-dynamics::Model<double> loadModel(const std::string& path, dynamics::BaseType base);
+// Reads a URDF model (the library API's); throws dynamics::ModelError naming the file and element.
+using saltus::loadModel;
 
 // A comma-separated list of numbers, one per model coordinate (coordinate order), e.g.
 // "--q=0,0.785". Throws UsageError naming the option and the offending token.

@@ -4,21 +4,14 @@
 // which collocation/saved_solution.hpp rebuilds the solution for replay, rendering or seeding) and
 // DIR/summary.json; they appear only when the solve ran (a failed or infeasible solve still
 // writes them, with Ipopt's status, and exits 1).
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
-#include "collocation/problem_file.hpp"
-#include "collocation/saved_solution.hpp"
-#include "collocation/seeding.hpp"
-#include "collocation/solution.hpp"
-#include "collocation/solver.hpp"
+#include "saltus/saltus.hpp"
 
 namespace saltus::cli {
 
@@ -27,7 +20,7 @@ namespace {
 using namespace saltus::collocation;
 namespace fs = std::filesystem;
 
-struct OptimizeOptions {
+struct OptimizeCliOptions {
   std::string problem;
   std::string method = "impulsive";
   std::optional<int> P, N;
@@ -44,7 +37,7 @@ struct OptimizeOptions {
   std::string out;
 };
 
-int optimize(const OptimizeOptions& opt) {
+int optimizeCommand(const OptimizeCliOptions& opt) {
   Method method;
   try {
     method = parseMethod(opt.method);
@@ -98,98 +91,19 @@ int optimize(const OptimizeOptions& opt) {
   }
   problem.derivative_check = problem.derivative_check || opt.derivative_check;
 
-  const Transcription t(problem, method);  // refuses what the method cannot represent
-  const Seeding seeding = makeSeeding(t);
-  const SimulationSeedReport& simulated = seeding.simulation;
-  SolveOptions so;
-  so.print_level = opt.print_level;
-  so.ipopt = ipopt;
-  so.restarts = seeding.restarts;
+  OptimizeOptions options;
+  options.method = method;
+  options.solve.print_level = opt.print_level;
+  options.solve.ipopt = ipopt;
   if (opt.tighten_within) {
     if (!(*opt.tighten_within >= 0) || !std::isfinite(*opt.tighten_within))
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
-    so.tighten_within = *opt.tighten_within;
+    options.solve.tighten_within = *opt.tighten_within;
   }
-  const SolveReport r = solve(t, seeding.seed, so);
+  const OptimizeResult o = saltus::optimize(problem, options);  // refuses what the method cannot represent
+  saveSolution(opt.out, o);
 
-  fs::create_directories(opt.out);
-  const std::vector<Sample> samples = trajectory(t, r.x);
-  writeTrajectoryCsv((fs::path(opt.out) / "trajectory.csv").string(), t, samples);
-  writeSolution(opt.out, t, r.x);
-
-  nlohmann::ordered_json j;
-  j["problem"] = problem.name;
-  // files by absolute path: replay and render may run from another directory
-  j["source"] = problem.source.rfind("builtin:", 0) == 0 ? problem.source
-                                                          : fs::absolute(problem.source).lexically_normal().string();
-  j["method"] = toString(method);
-  j["N"] = problem.N;
-  j["P"] = method == Method::FirstOrder ? 1 : problem.P;
-  j["elements"] = t.elements();
-  j["seed"] = toString(problem.seed_kind);
-  if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
-  if ((problem.seed_kind == SeedKind::Simulation || problem.seed_kind == SeedKind::PerturbedSimulation) &&
-      seeding.fallback.empty())
-    j["simulation_seed"] = {{"dt", simulated.dt}, {"events", simulated.events}, {"passes", simulated.iterations}};
-  if (!seeding.fallback.empty()) j["seed_fallback"] = seeding.fallback;
-  j["seed_scale"] = problem.seed_scale;
-  j["random_seed"] = problem.random_seed;
-  j["restarts"] = problem.restarts;
-  if (std::isfinite(so.tighten_within)) j["tighten_within"] = so.tighten_within;
-  j["feasible"] = r.feasible;
-  j["objective"] = r.objective;
-  j["largest_product"] = r.largest_product;
-  j["largest_product_at"] = r.largest_product_at;
-  j["complementarity_tolerance"] = problem.complementarity_tolerance;
-  j["iterations"] = r.iterations;
-  j["wall_seconds"] = r.wall_seconds;
-  j["evaluation_seconds"] = r.evaluation_seconds;
-  j["ipopt_seconds"] = r.wall_seconds - r.evaluation_seconds;
-  j["evaluation_fraction"] = r.wall_seconds > 0 ? r.evaluation_seconds / r.wall_seconds : 0.0;
-  j["variables"] = r.variables;
-  j["constraints"] = r.constraints;
-  j["jacobian_nonzeros"] = r.jacobian_nonzeros;
-  j["hessian_nonzeros"] = r.hessian_nonzeros;
-  j["total_time"] = samples.empty() ? 0.0 : samples.back().t;
-  j["mean_local_error"] = meanLocalError(t, r.x);
-  for (const StageReport& s : r.stages)
-    j["stages"].push_back({{"name", s.name},
-                           {"status", s.status},
-                           {"succeeded", s.succeeded},
-                           {"iterations", s.iterations},
-                           {"objective", s.objective},
-                           {"largest_product", s.largest_product},
-                           {"largest_violation", s.largest_violation},
-                           {"wall_seconds", s.wall_seconds},
-                           {"evaluation_seconds", s.evaluation_seconds}});
-  for (const AttemptReport& a : r.attempts)
-    j["attempts"].push_back({{"attempt", a.attempt},
-                             {"random_seed", problem.random_seed + a.attempt},
-                             {"feasible", a.feasible},
-                             {"largest_product", a.largest_product},
-                             {"iterations", a.iterations},
-                             {"wall_seconds", a.wall_seconds}});
-  if (!r.note.empty()) j["note"] = r.note;
-  // A failed solve with hints: could the problem's own motion meet them?
-  std::vector<HintReach> hints;
-  if (!r.feasible && !problem.hints.empty()) {
-    try {
-      hints = checkHints(t);
-    } catch (const std::runtime_error& e) {  // a diagnostic: the solve's files are written regardless
-      j["hints_not_checked"] = e.what();
-    }
-  }
-  for (const HintReach& h : hints)
-    j["hints"].push_back({{"origin", h.origin},
-                          {"contact", h.contact},
-                          {"at", {h.element + 1, h.point}},
-                          {"earliest", h.earliest},
-                          {"latest", h.latest},
-                          {"simulated_closing", h.closes},
-                          {"reachable", h.reachable}});
-  j["parameters"] = problem.parameters;
-  writeFileAtomically((fs::path(opt.out) / "summary.json").string(), j.dump(2) + "\n");
-
+  const SolveReport& r = o.report;
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
             << (r.feasible ? "feasible" : "NOT feasible") << " (" << r.stages.back().status << ", largest product "
             << r.largest_product << (r.largest_product_at.empty() ? "" : " at " + r.largest_product_at) << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
@@ -197,8 +111,8 @@ int optimize(const OptimizeOptions& opt) {
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
             << opt.out << "\n";
   if (!r.note.empty()) std::cerr << "saltus optimize: " << r.note << "\n";
-  if (!seeding.fallback.empty()) std::cerr << "saltus optimize: " << seeding.fallback << "\n";
-  for (const HintReach& h : hints)
+  if (!o.seed_fallback.empty()) std::cerr << "saltus optimize: " << o.seed_fallback << "\n";
+  for (const HintReach& h : o.hints)
     if (!h.reachable)
       std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1
                 << "," << h.point << "]) cannot be met: that point lies between " << h.earliest << " and " << h.latest
@@ -211,7 +125,7 @@ int optimize(const OptimizeOptions& opt) {
 }  // namespace
 
 Command addOptimizeCommand(CLI::App& saltus) {
-  auto opt = std::make_shared<OptimizeOptions>();
+  auto opt = std::make_shared<OptimizeCliOptions>();
   CLI::App* app = saltus.add_subcommand("optimize", "Trajectory optimisation through contact (direct collocation, Ipopt)");
   app->add_option("problem", opt->problem, "built-in problem name or problem file (.yaml)")->required();
   app->add_option("--method", opt->method, "impulsive (default), continuous or first-order");
@@ -233,7 +147,7 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_flag("--derivative-check", opt->derivative_check, "run Ipopt's second-order derivative checker");
   app->add_option("--print-level", opt->print_level, "Ipopt's print_level (0 = quiet)");
   app->add_option("--out", opt->out, "output directory (trajectory.csv, variables.csv, summary.json)")->required();
-  return {app, [opt] { return optimize(*opt); }};
+  return {app, [opt] { return optimizeCommand(*opt); }};
 }
 
 }  // namespace saltus::cli

@@ -1,29 +1,20 @@
 // saltus render TRAJECTORY.csv --scene SCENE | DIR: draws a trajectory off-screen (render/,
 // OSMesa) into PNG frames and/or an H.264 MP4 (through ffmpeg). DIR is an output directory of
-// `saltus optimize`: its variables.csv rebuilds the solution, drawn through the collocation
-// polynomials (cli/collocation_source.hpp: states between the points on the polynomials,
-// impulses at the velocity jumps' instants); a directory without variables.csv falls back to
-// summary.json ("source", "parameters") for the scene and DIR/trajectory.csv, interpolated
-// linearly. A bare CSV needs --scene (and the --set values it was simulated with). Files appear
-// only when complete.
-#include <chrono>
+// `saltus optimize` (saltus::openSolution: drawn through the collocation polynomials). A bare
+// CSV needs --scene (and the --set values it was simulated with). Files appear only when
+// complete.
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <unistd.h>
 
-#include <nlohmann/json.hpp>
-
-#include "cli/collocation_source.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
-#include "collocation/problem_file.hpp"
-#include "render/animation.hpp"
-#include "render/csv_trajectory.hpp"
-#include "scene/scenario.hpp"
+#include "saltus/saltus.hpp"
 
 namespace saltus::cli {
 
@@ -31,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RenderOptions {
+struct RenderCliOptions {
   std::string input;
   std::optional<std::string> scene;
   std::vector<std::string> set;
@@ -44,37 +35,7 @@ struct RenderOptions {
   std::string camera = "auto";
 };
 
-// The scene of an optimisation output directory, from its summary.json.
-scene::Scene sceneOfRunDirectory(const fs::path& dir) {
-  const fs::path summary_path = dir / "summary.json";
-  std::ifstream in(summary_path);
-  if (!in)
-    throw std::runtime_error(summary_path.string() +
-                             ": missing; a directory to render must be the output of 'saltus optimize' "
-                             "(summary.json and trajectory.csv); for a CSV file give --scene");
-  nlohmann::json summary;
-  try {
-    summary = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(summary_path.string() + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!summary.is_object() || !summary.contains("source") || !summary["source"].is_string())
-    throw std::runtime_error(summary_path.string() +
-                             ": no key \"source\" (a string: the problem file or builtin:<name>) to load the scene from");
-  if (!summary.contains("parameters") || !summary["parameters"].is_object())
-    throw std::runtime_error(summary_path.string() + ": no key \"parameters\" (an object: parameter name -> value)");
-  std::map<std::string, double> parameters;
-  for (const auto& [name, value] : summary["parameters"].items()) {
-    if (!value.is_number())
-      throw std::runtime_error(summary_path.string() + ": parameters." + name + ": expected a number, got " + value.dump());
-    parameters[name] = value.get<double>();
-  }
-  std::string source = summary["source"].get<std::string>();
-  if (source.rfind("builtin:", 0) == 0) source = source.substr(8);
-  return collocation::loadProblem(source, parameters).scene;
-}
-
-int render(const RenderOptions& opt) {
+int renderCommand(const RenderCliOptions& opt) {
   if (opt.out.empty() && opt.frames.empty())
     throw UsageError("nothing to write: give --out VIDEO.mp4 and/or --frames DIR");
   if (!(opt.fps > 0) || !std::isfinite(opt.fps) || opt.fps > 1000)
@@ -104,27 +65,15 @@ int render(const RenderOptions& opt) {
   const fs::path input(opt.input);
   std::error_code error;
   if (!fs::exists(input, error)) throw std::runtime_error(opt.input + ": no such file or directory");
-  scene::Scene scene;
-  std::unique_ptr<render::TrajectorySource> source;
+  RenderInput trajectory;
   if (fs::is_directory(input, error)) {
     if (opt.scene || !opt.set.empty())
       throw UsageError("--scene/--set: not used with a 'saltus optimize' directory (its summary.json names the scene)");
-    if (fs::exists(input / "variables.csv")) {
-      // The collocation polynomials between the points; the scene of the rebuilt problem.
-      auto collocation = std::make_unique<CollocationSource>(CollocationSource::load(input.string()));
-      scene = collocation->scene();
-      source = std::move(collocation);
-    } else {  // an older output directory: straight lines between the CSV rows
-      scene = sceneOfRunDirectory(input);
-      source = std::make_unique<render::CsvTrajectory>((input / "trajectory.csv").string(), scene);
-    }
+    trajectory = openSolution(opt.input);
   } else {
     if (!opt.scene) throw UsageError("--scene: required with a trajectory CSV (the scene it was simulated in)");
-    scene = scene::loadScene(*opt.scene, parseSetOptions(opt.set));
-    source = std::make_unique<render::CsvTrajectory>(opt.input, scene);
+    trajectory = openTrajectoryCsv(opt.input, scene::loadScene(*opt.scene, parseSetOptions(opt.set)));
   }
-  const render::TrajectorySource& trajectory = *source;
-  const render::Animation animation(scene, trajectory, options, std::cerr);
 
   // Progress: a bar redrawn in place on a terminal, else a line every 25 % for long renders.
   const bool tty = ::isatty(STDERR_FILENO) == 1;
@@ -140,12 +89,12 @@ int render(const RenderOptions& opt) {
       std::cerr << "saltus render: " << 25 * last_quarter << "% (" << done << "/" << total << " frames)\n";
     }
   };
-  const auto start = std::chrono::steady_clock::now();
-  const int frames = render::renderAnimation(animation, opt.out, opt.frames, progress);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const RenderReport report = renderTrajectory(trajectory, options, opt.out, opt.frames, std::cerr, progress);
+  const int frames = report.frames;
+  const double seconds = report.seconds;
 
   std::cerr << "saltus render: " << frames << " frames " << opt.width << "x" << opt.height << " (t = "
-            << formatNumber(trajectory.startTime()) << " … " << formatNumber(trajectory.endTime()) << " s at "
+            << formatNumber(report.start_time) << " … " << formatNumber(report.end_time) << " s at "
             << formatNumber(opt.fps) << " fps, speed " << formatNumber(opt.speed) << ") in " << formatNumber(seconds, 3)
             << " s (" << formatNumber(frames / std::max(seconds, 1e-9), 3) << " frames/s)";
   if (!opt.out.empty()) std::cerr << " -> " << opt.out;
@@ -157,7 +106,7 @@ int render(const RenderOptions& opt) {
 }  // namespace
 
 Command addRenderCommand(CLI::App& saltus) {
-  auto opt = std::make_shared<RenderOptions>();
+  auto opt = std::make_shared<RenderCliOptions>();
   CLI::App* app = saltus.add_subcommand("render", "Draw a trajectory into an MP4 video and/or PNG frames (off-screen)");
   app->add_option("TRAJECTORY", opt->input,
                   "trajectory CSV (saltus simulate; needs --scene) or a 'saltus optimize' output directory")
@@ -175,7 +124,7 @@ Command addRenderCommand(CLI::App& saltus) {
       ->capture_default_str();
   app->add_option("--antialias", opt->antialias, "supersampling factor 1 … 4 (2: four samples a pixel, 4x slower)")
       ->capture_default_str();
-  return {app, [opt] { return render(*opt); }};
+  return {app, [opt] { return renderCommand(*opt); }};
 }
 
 }  // namespace saltus::cli

@@ -36,7 +36,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/collocation_source.hpp"
+#include "saltus/collocation_source.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 
@@ -272,7 +272,7 @@ int run(const RunOptions& opt) {
                        std::to_string(opt.width), "--height", std::to_string(opt.height)}};
   // 4. charts
   const fs::path chart_png = chart_dir / "trajectory.png", chart_svg = chart_dir / "trajectory.svg";
-  PipelineStep charts{"charts", chartScriptCommand("trajectory", (opt_dir / "trajectory.csv").string(), chart_png.string(),
+  PipelineStep charts{"charts", chartCommand("trajectory", (opt_dir / "trajectory.csv").string(), chart_png.string(),
                                                    chart_svg.string())};
   charts.command.insert(charts.command.end(), {"--title", problem_word + " (" + (summary ? jsonNumber(*summary, "method") : opt.method) + ")"});
 

@@ -162,7 +162,7 @@ int sweepCommand(const SweepOptions& opt) {
       fs::create_directories(out / "charts");
       for (const char* kind : {"time", "error", "cost"}) {
         const std::string stem = (out / "charts" / (std::string("sweep_") + kind)).string();
-        runChartScript(std::string("sweep-") + kind, (out / "summary.json").string(), stem + ".png", stem + ".svg");
+        drawChart(std::string("sweep-") + kind, (out / "summary.json").string(), stem + ".png", stem + ".svg");
       }
       charts = true;
     } catch (const std::exception& e) {

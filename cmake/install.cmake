@@ -7,8 +7,9 @@
 #
 # Layout under the prefix:
 #   include/saltus/<folder>/*.hpp     headers, included as in the source tree: "dynamics/rnea.hpp"
+#   include/saltus/saltus/saltus.hpp  the library API (saltus::api), "saltus/saltus.hpp"
 #   lib/libsaltus_*.a                 saltus::dynamics, scene, contact, timestepper, collocation,
-#                                     verify, render (saltus::saltus: all of them)
+#                                     verify, render, api (saltus::saltus: all of them)
 #   lib/cmake/saltus/                 saltusConfig.cmake, saltusConfigVersion.cmake, saltusTargets.cmake
 #   bin/saltus                        the command line
 #   share/saltus/models, scripts      built-in models, scenes and problems; the chart script
@@ -22,7 +23,13 @@ foreach(name ${SALTUS_EXPORTED_LIBRARIES})
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${name}/ DESTINATION ${SALTUS_INSTALL_INCLUDE_DIR}/${name}
           FILES_MATCHING PATTERN "*.hpp")
 endforeach()
+# The library API: target saltus_api, headers in saltus/ (without the generated build paths).
+set_target_properties(saltus_api PROPERTIES EXPORT_NAME api)
+target_include_directories(saltus_api INTERFACE $<INSTALL_INTERFACE:${SALTUS_INSTALL_INCLUDE_DIR}>)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/saltus/ DESTINATION ${SALTUS_INSTALL_INCLUDE_DIR}/saltus
+        FILES_MATCHING PATTERN "*.hpp")
 list(TRANSFORM SALTUS_EXPORTED_LIBRARIES PREPEND saltus_ OUTPUT_VARIABLE SALTUS_EXPORTED_TARGETS)
+list(APPEND SALTUS_EXPORTED_TARGETS saltus_api)
 
 # saltus::saltus: every library, C++20, and the instruction set the libraries were built for
 # (Eigen's vector alignment follows it: code built with other flags would disagree on the layout

@@ -1,12 +1,12 @@
-// cli/collocation_source.hpp: an optimised point-mass drop (inelastic) read back as a
+// saltus/collocation_source.hpp: an optimised point-mass drop (inelastic) read back as a
 // render::TrajectorySource. The solution is a saved `saltus optimize` output directory,
 // tests/data/solutions/point_mass_drop_inelastic (see its README): the optimiser itself is tested
 // in tests/collocation and tests/cli/optimize_test.cpp, and a saved solve keeps these tests off
 // Ipopt's round-off (and ~15 s per test under ASan). In flight the position between the rows is the degree-P
 // polynomial through the element's rows (and the parabola z0 − g t²/2 to the solver's
 // tolerance), which the CSV's straight lines between rows are not; the impact is one impulse at the instant of the velocity jump; the
-// forces reproduce the collocation-point reactions of trajectory.csv; and `saltus render DIR`
-// draws through it.
+// forces reproduce the collocation-point reactions of trajectory.csv; and saltus::openSolution
+// renders a solution folder through it.
 #include <unistd.h>
 
 #include <cmath>
@@ -19,16 +19,15 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/collocation_source.hpp"
 #include "render/csv_trajectory.hpp"
 #include "saltus/build_paths.hpp"
-#include "tests/support/run_saltus.hpp"
+#include "saltus/collocation_source.hpp"
+#include "saltus/saltus.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-using saltus::cli::CollocationSource;
-using saltus::testing::runSaltus;
+using saltus::CollocationSource;
 
 // trajectory.csv as columns by name.
 std::map<std::string, std::vector<double>> readTrajectoryColumns(const fs::path& path) {
@@ -155,16 +154,24 @@ TEST_F(CollocationSourceTest, ImpulseAtTheJumpAndForcesThroughTheCollocationPoin
   EXPECT_NEAR(sum / samples, 9.81, 0.5);
 }
 
-TEST_F(CollocationSourceTest, RenderOfAnOptimizeDirectoryUsesIt) {
+TEST_F(CollocationSourceTest, RenderOfASolutionFolderUsesIt) {
+  const saltus::RenderInput input = saltus::openSolution(dir_.string());
+  ASSERT_NE(dynamic_cast<const CollocationSource*>(input.trajectory.get()), nullptr);
+  EXPECT_EQ(input.scene.name, CollocationSource::load(dir_.string()).scene().name);
+  saltus::render::AnimationOptions options;
+  options.fps = 20;
+  options.width = 64;
+  options.height = 48;
   const fs::path frames = dir_ / "frames";
-  const auto r = runSaltus({"render", dir_.string(), "--frames", frames.string(), "--fps", "20", "--width", "64",
-                            "--height", "48"});
-  ASSERT_EQ(r.status, 0) << r.err;
-  const CollocationSource source = CollocationSource::load(dir_.string());
-  const int expected = static_cast<int>(std::floor(source.endTime() * 20 + 1e-9)) + 1;
+  std::ostringstream warnings;
+  const saltus::RenderReport report = saltus::renderTrajectory(input, options, "", frames.string(), warnings);
+  const int expected = static_cast<int>(std::floor(input.trajectory->endTime() * 20 + 1e-9)) + 1;
+  EXPECT_EQ(report.frames, expected);
   char name[32];
   std::snprintf(name, sizeof name, "frame_%05d.png", expected - 1);
-  EXPECT_TRUE(fs::exists(frames / name)) << r.err;
+  EXPECT_TRUE(fs::exists(frames / name)) << warnings.str();
+  std::snprintf(name, sizeof name, "frame_%05d.png", expected);
+  EXPECT_FALSE(fs::exists(frames / name));
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // A solved transcription as a render::TrajectorySource: the renderer's view of an optimisation
 // output directory through the collocation polynomials (collocation/interpolation.hpp) rather
-// than straight lines between the CSV rows. It lives here, not in render/, because render/ does
-// not depend on collocation/; it is its own small library (saltus_collocation_source) so the
-// tests can link it without the `saltus` program.
+// than straight lines between the CSV rows. It lives in the library API (saltus::openSolution),
+// not in render/, because render/ reads trajectories and scene geometry only and does not
+// depend on collocation/.
 //
 //  q(t):   the state polynomial of the element that holds t (paper eq. 3), t clamped to [0, T];
 //          positions are continuous at a mesh point, so either side gives the same value.
@@ -21,7 +21,7 @@
 #include "collocation/solution.hpp"
 #include "render/trajectory_source.hpp"
 
-namespace saltus::cli {
+namespace saltus {
 
 class CollocationSource : public render::TrajectorySource {
  public:
@@ -49,4 +49,4 @@ class CollocationSource : public render::TrajectorySource {
   std::vector<render::Impulse> impulses_;
 };
 
-}  // namespace saltus::cli
+}  // namespace saltus

@@ -1,11 +1,11 @@
-#include "cli/collocation_source.hpp"
+#include "saltus/collocation_source.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
 
-namespace saltus::cli {
+namespace saltus {
 
 CollocationSource::CollocationSource(collocation::SavedSolution solution)
     : solution_(std::move(solution)), trajectory_(solution_.trajectory()) {
@@ -81,4 +81,4 @@ std::vector<render::ContactLoad> CollocationSource::contactForces(double t) cons
   return out;
 }
 
-}  // namespace saltus::cli
+}  // namespace saltus

@@ -1,0 +1,121 @@
+// saltus::optimize (saltus/saltus.hpp): transcribe, seed, solve in two stages, evaluate; and the
+// files of a solve (trajectory.csv, variables.csv, summary.json).
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "collocation/saved_solution.hpp"
+#include "saltus/saltus.hpp"
+#include "scene/atomic_file.hpp"
+
+namespace saltus {
+
+namespace fs = std::filesystem;
+using namespace saltus::collocation;
+
+OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
+  OptimizeResult o;
+  o.problem_ptr = std::make_shared<const Problem>(problem);
+  const auto transcription = std::make_shared<const Transcription>(*o.problem_ptr, options.method);
+  o.transcription = transcription;
+  const Transcription& t = *transcription;
+  const Seeding seeding = makeSeeding(t);
+  o.simulation_seed = seeding.simulation;
+  o.seed_fallback = seeding.fallback;
+  SolveOptions solve = options.solve;
+  solve.restarts = seeding.restarts;
+  o.tighten_within = solve.tighten_within;
+  o.report = collocation::solve(t, seeding.seed, solve);
+  o.samples = trajectory(t, o.report.x);
+  o.mean_local_error = meanLocalError(t, o.report.x);
+  if (!o.report.feasible && !problem.hints.empty()) {
+    try {
+      o.hints = checkHints(t);
+    } catch (const std::runtime_error& e) {  // a diagnostic: the solve's result stands regardless
+      o.hints_not_checked = e.what();
+    }
+  }
+  return o;
+}
+
+std::string summaryJson(const OptimizeResult& o) {
+  const Problem& problem = o.problem();
+  const Transcription& t = *o.transcription;
+  const SolveReport& r = o.report;
+  const Method method = t.method();
+  nlohmann::ordered_json j;
+  j["problem"] = problem.name;
+  // files by absolute path: replay and render may run from another directory
+  j["source"] = problem.source.rfind("builtin:", 0) == 0 ? problem.source
+                                                          : fs::absolute(problem.source).lexically_normal().string();
+  j["method"] = toString(method);
+  j["N"] = problem.N;
+  j["P"] = method == Method::FirstOrder ? 1 : problem.P;
+  j["elements"] = t.elements();
+  j["seed"] = toString(problem.seed_kind);
+  if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
+  if ((problem.seed_kind == SeedKind::Simulation || problem.seed_kind == SeedKind::PerturbedSimulation) &&
+      o.seed_fallback.empty())
+    j["simulation_seed"] = {{"dt", o.simulation_seed.dt},
+                            {"events", o.simulation_seed.events},
+                            {"passes", o.simulation_seed.iterations}};
+  if (!o.seed_fallback.empty()) j["seed_fallback"] = o.seed_fallback;
+  j["seed_scale"] = problem.seed_scale;
+  j["random_seed"] = problem.random_seed;
+  j["restarts"] = problem.restarts;
+  if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
+  j["feasible"] = r.feasible;
+  j["objective"] = r.objective;
+  j["largest_product"] = r.largest_product;
+  j["largest_product_at"] = r.largest_product_at;
+  j["complementarity_tolerance"] = problem.complementarity_tolerance;
+  j["iterations"] = r.iterations;
+  j["wall_seconds"] = r.wall_seconds;
+  j["evaluation_seconds"] = r.evaluation_seconds;
+  j["ipopt_seconds"] = r.wall_seconds - r.evaluation_seconds;
+  j["evaluation_fraction"] = r.wall_seconds > 0 ? r.evaluation_seconds / r.wall_seconds : 0.0;
+  j["variables"] = r.variables;
+  j["constraints"] = r.constraints;
+  j["jacobian_nonzeros"] = r.jacobian_nonzeros;
+  j["hessian_nonzeros"] = r.hessian_nonzeros;
+  j["total_time"] = o.samples.empty() ? 0.0 : o.samples.back().t;
+  j["mean_local_error"] = o.mean_local_error;
+  for (const StageReport& s : r.stages)
+    j["stages"].push_back({{"name", s.name},
+                           {"status", s.status},
+                           {"succeeded", s.succeeded},
+                           {"iterations", s.iterations},
+                           {"objective", s.objective},
+                           {"largest_product", s.largest_product},
+                           {"largest_violation", s.largest_violation},
+                           {"wall_seconds", s.wall_seconds},
+                           {"evaluation_seconds", s.evaluation_seconds}});
+  for (const AttemptReport& a : r.attempts)
+    j["attempts"].push_back({{"attempt", a.attempt},
+                             {"random_seed", problem.random_seed + a.attempt},
+                             {"feasible", a.feasible},
+                             {"largest_product", a.largest_product},
+                             {"iterations", a.iterations},
+                             {"wall_seconds", a.wall_seconds}});
+  if (!r.note.empty()) j["note"] = r.note;
+  if (!o.hints_not_checked.empty()) j["hints_not_checked"] = o.hints_not_checked;
+  for (const HintReach& h : o.hints)
+    j["hints"].push_back({{"origin", h.origin},
+                          {"contact", h.contact},
+                          {"at", {h.element + 1, h.point}},
+                          {"earliest", h.earliest},
+                          {"latest", h.latest},
+                          {"simulated_closing", h.closes},
+                          {"reachable", h.reachable}});
+  j["parameters"] = problem.parameters;
+  return j.dump(2) + "\n";
+}
+
+void saveSolution(const std::string& dir, const OptimizeResult& o) {
+  fs::create_directories(dir);
+  writeTrajectoryCsv((fs::path(dir) / "trajectory.csv").string(), *o.transcription, o.samples);
+  writeSolution(dir, *o.transcription, o.report.x);
+  scene::writeFileAtomically((fs::path(dir) / "summary.json").string(), summaryJson(o));
+}
+
+}  // namespace saltus

@@ -1,0 +1,88 @@
+// saltus/optimize.cpp: the library API's solve and its files. The paper's point-mass drop
+// (e = 0.5, h = 0.1 m) through the API: the velocity jumps from −sqrt(2 g h) to e sqrt(2 g h) at
+// sqrt(2 h / g); saveSolution writes the three files, summary.json says what the result object
+// says, and the saved variables read back (collocation/saved_solution.hpp) are the solution.
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "collocation/saved_solution.hpp"
+#include "saltus/saltus.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class ApiOptimize : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("saltus_api_optimize_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
+    result_ = new saltus::OptimizeResult(saltus::optimize(problem, saltus::OptimizeOptions{}));
+    saltus::saveSolution(dir_.string(), *result_);
+  }
+  static void TearDownTestSuite() {
+    delete result_;
+    fs::remove_all(dir_);
+  }
+  static fs::path dir_;
+  static saltus::OptimizeResult* result_;
+};
+fs::path ApiOptimize::dir_;
+saltus::OptimizeResult* ApiOptimize::result_ = nullptr;
+
+TEST_F(ApiOptimize, TheDropBouncesWithNewtonsRestitution) {
+  const saltus::OptimizeResult& r = *result_;
+  ASSERT_TRUE(r.feasible()) << r.report.stages.back().status;
+  const double g = 9.81, h = 0.1, speed = std::sqrt(2 * g * h), t_impact = std::sqrt(2 * h / g);
+  // The largest downward and upward speeds are the ones just before and just after the impact.
+  double down = 0, up = 0, t_down = 0;
+  for (const saltus::collocation::Sample& s : r.samples) {
+    if (s.v[0] < down) {
+      down = s.v[0];
+      t_down = s.t;
+    }
+    up = std::max(up, s.v[0]);
+  }
+  EXPECT_NEAR(down, -speed, 1e-3 * speed);
+  EXPECT_NEAR(up, 0.5 * speed, 1e-3 * speed);
+  EXPECT_NEAR(t_down, t_impact, 1e-3);
+  EXPECT_EQ(&r.problem(), &r.transcription->problem());
+  EXPECT_EQ(r.problem().parameters.at("restitution"), 0.5);
+}
+
+TEST_F(ApiOptimize, TheSavedFilesAreTheResult) {
+  const saltus::OptimizeResult& r = *result_;
+  for (const char* f : {"trajectory.csv", "variables.csv", "summary.json"}) EXPECT_TRUE(fs::exists(dir_ / f)) << f;
+  std::ifstream in(dir_ / "summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("problem"), "point_mass_drop");
+  EXPECT_EQ(j.at("method"), "impulsive");
+  EXPECT_EQ(j.at("feasible").get<bool>(), r.feasible());
+  EXPECT_EQ(j.at("iterations").get<int>(), r.report.iterations);
+  EXPECT_EQ(j.at("largest_product").get<double>(), r.report.largest_product);
+  EXPECT_EQ(j.at("stages").size(), r.report.stages.size());
+  EXPECT_EQ(j.at("stages").back().at("status"), r.report.stages.back().status);
+  EXPECT_EQ(j.at("parameters").at("restitution").get<double>(), 0.5);
+  EXPECT_EQ(j.dump(2) + "\n", nlohmann::json::parse(saltus::summaryJson(r)).dump(2) + "\n");
+
+  const saltus::collocation::SavedSolution saved = saltus::collocation::loadSolution(dir_.string());
+  ASSERT_EQ(saved.x.size(), r.report.x.size());
+  EXPECT_LE((saved.x - r.report.x).cwiseAbs().maxCoeff(), 1e-12 * (1 + r.report.x.cwiseAbs().maxCoeff()));
+}
+
+TEST_F(ApiOptimize, AMethodThatCannotRepresentTheProblemIsRefused) {
+  // The continuous-velocity method admits e = 0 only.
+  const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  saltus::OptimizeOptions options;
+  options.method = saltus::collocation::Method::Continuous;
+  EXPECT_THROW(saltus::optimize(problem, options), std::invalid_argument);
+}
+
+}  // namespace
