@@ -94,7 +94,7 @@ void drawCharts(const std::string& kind, const fs::path& csv, const fs::path& pn
 int workPrecision(const WorkPrecisionOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
-  const std::vector<Engine> engines = parseEngines(opt.engine);
+  const std::vector<EngineKind> engines = parseEngineOption(opt.engine);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
   const bool locate = !opt.no_locate_impacts;
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
@@ -115,10 +115,10 @@ int workPrecision(const WorkPrecisionOptions& opt) {
       << "# scene: " << scene.name << " (" << scene.source << "); parameters: " << parameterList(scene) << "\n"
       << "# method: ";
   for (std::size_t i = 0; i < engines.size(); ++i)
-    csv << (i ? "; " : "") << engineSetup(engines[i], dts[0], opt.theta, solver, bullet_solver, locate).describe();
+    csv << (i ? "; " : "") << describe(engineSetup(engines[i], dts[0], opt.theta, solver, bullet_solver, locate));
   csv << ", duration " << formatNumber(duration) << " s\n";
-  if (std::find(engines.begin(), engines.end(), Engine::Bullet) != engines.end()) {
-    const verify::BulletWorld probe(scene, engineSetup(Engine::Bullet, dts[0], opt.theta, solver, bullet_solver, locate).bullet);
+  if (std::find(engines.begin(), engines.end(), EngineKind::Bullet) != engines.end()) {
+    const verify::BulletWorld probe(scene, engineSetup(EngineKind::Bullet, dts[0], opt.theta, solver, bullet_solver, locate).bullet);
     for (const std::string& a : probe.approximations()) csv << "# bullet approximation: " << a << "\n";
   }
   csv << "# error: " << model.description << "\n"
@@ -128,9 +128,9 @@ int workPrecision(const WorkPrecisionOptions& opt) {
       << "# solver_failures: saltus LCP failures; bullet MLCP solves that fell back to sequential impulse\n"
       << "engine,dt,error,cpu_seconds_per_simulated_second,ns_per_step,steps,solver_failures\n";
   bool any_failed = false;
-  for (Engine engine : engines)
+  for (EngineKind engine : engines)
     for (double dt : dts) {
-      const EngineSetup setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate);
+      const EngineOptions setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate);
       const long steps = stepCount(duration, dt);
       const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
       const double error = runError(model, run);
@@ -138,10 +138,10 @@ int workPrecision(const WorkPrecisionOptions& opt) {
       if (!run.failed) timing = timeRuns(scene, setup, steps, opt.min_time);
       const double simulated = steps * dt;
       const double cpu_per_s = timing.cpu / simulated, ns_per_step = timing.wall * 1e9 / steps;
-      csv << engineName(engine) << "," << formatNumber(dt, 10) << "," << formatNumber(error, 8) << ","
+      csv << verify::engineName(engine) << "," << formatNumber(dt, 10) << "," << formatNumber(error, 8) << ","
           << formatNumber(cpu_per_s, 6) << "," << formatNumber(ns_per_step, 6) << "," << run.steps << ","
           << run.failures << "\n";
-      std::cerr << "work-precision: " << scene.name << " " << engineName(engine) << " dt " << formatNumber(dt) << ": ";
+      std::cerr << "work-precision: " << scene.name << " " << verify::engineName(engine) << " dt " << formatNumber(dt) << ": ";
       if (run.failed) {
         any_failed = true;
         std::cerr << "FAILED after " << run.steps << " steps: " << run.message << "\n";
@@ -208,15 +208,15 @@ int perStep(const PerStepOptions& opt) {
     double error[2] = {kNaN, kNaN};
     long failures[2] = {0, 0};
     for (int e = 0; e < 2; ++e) {
-      const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
+      const EngineOptions setup = engineSetup(e ? EngineKind::Bullet : EngineKind::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
       const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
       error[e] = runError(model, run);
       failures[e] = run.failures;
-      if (run.failed) throw std::runtime_error(name + ": the " + engineName(setup.engine) + " run failed: " + run.message);
+      if (run.failed) throw std::runtime_error(name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);
     }
     for (int round = 0; round < opt.repeat; ++round)
       for (int e = 0; e < 2; ++e) {
-        const EngineSetup setup = engineSetup(e ? Engine::Bullet : Engine::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
+        const EngineOptions setup = engineSetup(e ? EngineKind::Bullet : EngineKind::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
         ns[e] = std::min(ns[e], timeRuns(scene, setup, steps, opt.min_time).wall * 1e9 / steps);
       }
     std::cout << scene.name << "," << formatNumber(ns[0], 5) << "," << formatNumber(ns[1], 5) << ","
@@ -239,10 +239,10 @@ struct StabilityRun {
 constexpr double kEnergyTolerance = 1e-9;    // relative rise of the energy above E_0
 constexpr double kPenetrationLimit = 1e-3;   // [m]
 
-StabilityRun stabilityRun(const Scene& scene, const EngineSetup& setup, long steps, bool exempt) {
+StabilityRun stabilityRun(const Scene& scene, const EngineOptions& setup, long steps, bool exempt) {
   StabilityRun r;
-  const std::unique_ptr<Sim> sim = makeSim(scene, setup);
-  Sim& stepper = *sim;
+  const std::unique_ptr<Engine> sim = verify::makeEngine(scene, setup);
+  Engine& stepper = *sim;
   const double e0 = stepper.energy();
   const double scale = e0 != 0 ? std::abs(e0) : 1.0;
   try {
@@ -272,7 +272,7 @@ StabilityRun stabilityRun(const Scene& scene, const EngineSetup& setup, long ste
     } else if (!exempt && r.energy_gain > kEnergyTolerance) {
       r.outcome = "energy_gain";
       r.message = "energy rose above E_0 by " + formatNumber(r.energy_gain, 4) + " (relative)";
-    } else if (setup.engine == Engine::Bullet && stepper.failures() > 0) {
+    } else if (setup.kind == EngineKind::Bullet && stepper.failures() > 0) {
       r.outcome = "solver_fallback";
       r.message = std::to_string(stepper.failures()) + " MLCP solves fell back to sequential impulse";
     }
@@ -283,7 +283,7 @@ StabilityRun stabilityRun(const Scene& scene, const EngineSetup& setup, long ste
 int stability(const StabilityOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
-  const std::vector<Engine> engines = parseEngines(opt.engine);
+  const std::vector<EngineKind> engines = parseEngineOption(opt.engine);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
   const bool locate = !opt.no_locate_impacts;
   std::vector<double> dts = parseNumberList("--dts", opt.dts, true);
@@ -320,7 +320,7 @@ int stability(const StabilityOptions& opt) {
       << "# scene: " << base.name << " (" << base.source << "); parameters: " << parameterList(base) << "\n"
       << "# method: ";
   for (std::size_t i = 0; i < engines.size(); ++i)
-    csv << (i ? "; " : "") << engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver, locate).describe();
+    csv << (i ? "; " : "") << describe(engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver, locate));
   csv << ", duration " << formatNumber(duration) << " s\n"
       << "# grid: dt x " << (frictions.empty() ? "" : "friction x ") << (restitutions.empty() ? "" : "restitution x ")
       << "(empty column: the scene has no such parameter)\n"
@@ -333,7 +333,7 @@ int stability(const StabilityOptions& opt) {
       << "engine,dt,friction,restitution,outcome,max_penetration,energy_gain,steps,t_end,message\n";
   std::map<std::string, int> counts;
   const std::vector<double> none{kNaN};
-  for (Engine engine : engines)
+  for (EngineKind engine : engines)
   for (double dt : dts)
     for (double mu : frictions.empty() ? none : frictions)
       for (double e : restitutions.empty() ? none : restitutions) {
@@ -343,8 +343,8 @@ int stability(const StabilityOptions& opt) {
         const Scene scene = loadScene(opt.scene, o);
         const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate),
                                             stepCount(duration, dt), exempt);
-        ++counts[std::string(engineName(engine)) + " " + r.outcome];
-        csv << engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
+        ++counts[std::string(verify::engineName(engine)) + " " + r.outcome];
+        csv << verify::engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
             << (std::isnan(e) ? "" : formatNumber(e, 10)) << "," << r.outcome << ","
             << formatNumber(r.max_penetration, 6) << "," << formatNumber(r.energy_gain, 6) << "," << r.steps << ","
             << formatNumber(r.t_end, 10) << "," << csvField(r.message) << "\n";

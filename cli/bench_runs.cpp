@@ -61,13 +61,12 @@ StepperOptions stepperOptions(double dt, double theta, LcpMethod solver) {
 // ---------------------------------------------------------------------------------------------
 // engines: the saltus time-stepper and Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp)
 
-const char* engineName(Engine e) { return e == Engine::Saltus ? "saltus" : "bullet"; }
-
-std::vector<Engine> parseEngines(const std::string& value) {
-  if (value == "saltus") return {Engine::Saltus};
-  if (value == "bullet") return {Engine::Bullet};
-  if (value == "both") return {Engine::Saltus, Engine::Bullet};
-  throw UsageError("--engine: expected saltus, bullet or both, got '" + value + "'");
+std::vector<EngineKind> parseEngineOption(const std::string& value) {
+  try {
+    return verify::parseEngines(value);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--engine: ") + e.what());
+  }
 }
 
 verify::BulletSolver parseBulletSolverOption(const std::string& value) {
@@ -78,8 +77,10 @@ verify::BulletSolver parseBulletSolverOption(const std::string& value) {
   }
 }
 
-std::string EngineSetup::describe() const {
-  if (engine == Engine::Saltus)
+std::string describe(const EngineOptions& setup) {
+  const timestepper::StepperOptions& saltus = setup.saltus;
+  const verify::BulletWorldOptions& bullet = setup.bullet;
+  if (setup.kind == EngineKind::Saltus)
     return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver) +
            (saltus.locate_impacts ? ", impacts located within the step" : ", impacts at the step's start");
   return std::string("bullet: btMultiBodyDynamicsWorld, ") + verify::bulletSolverName(bullet.solver) +
@@ -88,10 +89,10 @@ std::string EngineSetup::describe() const {
          formatNumber(bullet.contact_radius) + " m, cfm " + formatNumber(bullet.global_cfm);
 }
 
-EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver,
-                        bool locate_impacts) {
-  EngineSetup e;
-  e.engine = engine;
+EngineOptions engineSetup(EngineKind kind, double dt, double theta, LcpMethod solver, verify::BulletSolver bullet_solver,
+                          bool locate_impacts) {
+  EngineOptions e;
+  e.kind = kind;
   e.saltus = stepperOptions(dt, theta, solver);
   e.saltus.locate_impacts = locate_impacts;
   e.bullet.dt = dt;
@@ -99,58 +100,9 @@ EngineSetup engineSetup(Engine engine, double dt, double theta, LcpMethod solver
   return e;
 }
 
-namespace {
-
-class SaltusSim final : public Sim {
- public:
-  SaltusSim(const Scene& scene, const StepperOptions& o) : s_(scene, o) {}
-  void step() override { s_.step(); }
-  const Eigen::VectorXd& q() const override { return s_.q(); }
-  const Eigen::VectorXd& v() const override { return s_.v(); }
-  double time() const override { return s_.time(); }
-  double energy() override { return s_.energy(); }
-  double firstContactImpulse() const override { return s_.contacts().empty() ? 0.0 : s_.contacts()[0].pn; }
-  long steps() const override { return s_.stats().steps; }
-  long failures() const override { return s_.stats().lcp_failures; }
-  double maxPenetration() const override { return s_.stats().max_penetration; }
-
- private:
-  TimeStepper s_;
-};
-
-class BulletSim final : public Sim {
- public:
-  BulletSim(const Scene& scene, const verify::BulletWorldOptions& o) : w_(scene, o) {}
-  void step() override {
-    w_.step();
-    if (!w_.q().allFinite() || !w_.v().allFinite())
-      throw SimulationError("Bullet: the state is not finite at t = " + formatNumber(w_.time()) + " s", w_.time(), {},
-                            kBenchNaN);
-  }
-  const Eigen::VectorXd& q() const override { return w_.q(); }
-  const Eigen::VectorXd& v() const override { return w_.v(); }
-  double time() const override { return w_.time(); }
-  double energy() override { return w_.energy(); }
-  double firstContactImpulse() const override { return w_.contacts().empty() ? 0.0 : w_.contacts()[0].pn; }
-  long steps() const override { return w_.stats().steps; }
-  long failures() const override { return w_.stats().mlcp_fallbacks; }
-  double maxPenetration() const override { return w_.stats().max_penetration; }
-
- private:
-  verify::BulletWorld w_;
-};
-
-}  // namespace
-
-std::unique_ptr<Sim> makeSim(const Scene& scene, const EngineSetup& e) {
-  if (e.engine == Engine::Saltus) return std::make_unique<SaltusSim>(scene, e.saltus);
-  return std::make_unique<BulletSim>(scene, e.bullet);
-}
-
-
-RecordedRun recordRun(const Scene& scene, const EngineSetup& setup, long steps, bool keep_bounce) {
+RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, bool keep_bounce) {
   RecordedRun r;
-  const std::unique_ptr<Sim> sim = makeSim(scene, setup);
+  const std::unique_ptr<Engine> sim = verify::makeEngine(scene, setup);
   if (keep_bounce) {
     r.z.reserve(static_cast<std::size_t>(steps) + 1);
     r.pn.reserve(static_cast<std::size_t>(steps) + 1);
@@ -162,7 +114,7 @@ RecordedRun recordRun(const Scene& scene, const EngineSetup& setup, long steps, 
       sim->step();
       if (keep_bounce) {
         r.z.push_back(sim->q()[0]);
-        r.pn.push_back(sim->firstContactImpulse());
+        r.pn.push_back(scene.contacts.empty() ? 0.0 : sim->contact(0).pn);
       }
     }
   } catch (const SimulationError& e) {
@@ -350,13 +302,13 @@ double runError(const ErrorModel& m, const RecordedRun& r) {
 
 // Runs `steps` steps repeatedly (at least once, until min_time CPU seconds have been spent) and
 // keeps the fastest wall and CPU time of a run. Only stepping is timed.
-Timing timeRuns(const Scene& scene, const EngineSetup& setup, long steps, double min_time) {
+Timing timeRuns(const Scene& scene, const EngineOptions& setup, long steps, double min_time) {
   Timing timing;
   timing.wall = timing.cpu = std::numeric_limits<double>::infinity();
   double spent = 0;
   do {
-    const std::unique_ptr<Sim> sim = makeSim(scene, setup);
-    Sim& stepper = *sim;
+    const std::unique_ptr<Engine> sim = verify::makeEngine(scene, setup);
+    Engine& stepper = *sim;
     const double cpu0 = cpuSeconds();
     const auto wall0 = std::chrono::steady_clock::now();
     for (long i = 0; i < steps; ++i) stepper.step();

@@ -1,6 +1,6 @@
-// The runs behind `saltus bench` (cli/bench.cpp): both engines behind one face, untimed runs that
-// record what an error needs, timed runs, and how a run's error is measured on each built-in
-// validation scene.
+// The runs behind `saltus bench` (cli/bench.cpp): both engines (verify/engine.hpp) set up from the
+// options, untimed runs that record what an error needs, timed runs, and how a run's error is
+// measured on each built-in validation scene.
 #pragma once
 
 #include <functional>
@@ -14,6 +14,7 @@
 #include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 #include "verify/bullet_world.hpp"
+#include "verify/engine.hpp"
 
 namespace saltus::cli::bench {
 
@@ -22,40 +23,20 @@ using scene::Scene;
 // ---------------------------------------------------------------------------------------------
 // engines: the saltus time-stepper and Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp)
 
-enum class Engine { Saltus, Bullet };
-const char* engineName(Engine e);
-// "saltus", "bullet" or "both"; UsageError otherwise.
-std::vector<Engine> parseEngines(const std::string& value);
+using verify::Engine;
+using verify::EngineKind;
+using verify::EngineOptions;
+
+// --engine: saltus, bullet or both; UsageError otherwise.
+std::vector<EngineKind> parseEngineOption(const std::string& value);
 verify::BulletSolver parseBulletSolverOption(const std::string& value);
 
 timestepper::StepperOptions stepperOptions(double dt, double theta, timestepper::LcpMethod solver);
 
-// How one engine is set up for a run: the stepper options (saltus) or the world options (Bullet).
-struct EngineSetup {
-  Engine engine = Engine::Saltus;
-  timestepper::StepperOptions saltus;
-  verify::BulletWorldOptions bullet;
-  std::string describe() const;
-};
-EngineSetup engineSetup(Engine engine, double dt, double theta, timestepper::LcpMethod solver,
-                        verify::BulletSolver bullet_solver, bool locate_impacts);
-
-// The common face of both engines for the bench loops.
-class Sim {
- public:
-  virtual ~Sim() = default;
-  // Throws SimulationError (saltus: LCP failure or non-finite state; Bullet: non-finite state).
-  virtual void step() = 0;
-  virtual const Eigen::VectorXd& q() const = 0;
-  virtual const Eigen::VectorXd& v() const = 0;
-  virtual double time() const = 0;
-  virtual double energy() = 0;
-  virtual double firstContactImpulse() const = 0;
-  virtual long steps() const = 0;
-  virtual long failures() const = 0;  // LCP failures (saltus) / MLCP fallbacks (Bullet)
-  virtual double maxPenetration() const = 0;
-};
-std::unique_ptr<Sim> makeSim(const Scene& scene, const EngineSetup& e);
+// One engine set up for a run, and the line that describes it in a benchmark's output.
+EngineOptions engineSetup(EngineKind kind, double dt, double theta, timestepper::LcpMethod solver,
+                          verify::BulletSolver bullet_solver, bool locate_impacts);
+std::string describe(const EngineOptions& setup);
 
 // ---------------------------------------------------------------------------------------------
 // errors
@@ -96,7 +77,7 @@ struct RecordedRun {
   Eigen::VectorXd x_end;         // [q; v] at the end
   std::vector<double> z, pn;     // BallApex: height and normal impulse after every step
 };
-RecordedRun recordRun(const Scene& scene, const EngineSetup& setup, long steps, bool keep_bounce);
+RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, bool keep_bounce);
 
 // The error model of a scene for runs of `duration` at the time steps `dts` (their end times
 // are multiples of dt at or after `duration`); a Reference run or the Exact motion is evaluated
@@ -116,6 +97,6 @@ struct Timing {
 };
 // Runs `steps` steps repeatedly (at least once, until min_time CPU seconds have been spent) and
 // keeps the fastest wall and CPU time of a run. Only stepping is timed.
-Timing timeRuns(const Scene& scene, const EngineSetup& setup, long steps, double min_time);
+Timing timeRuns(const Scene& scene, const EngineOptions& setup, long steps, double min_time);
 
 }  // namespace saltus::cli::bench

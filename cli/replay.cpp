@@ -54,7 +54,7 @@ struct ReplayCliOptions {
 int replayCommand(const ReplayCliOptions& opt) {
   verify::ReplayOptions o;
   try {
-    o.engines = verify::parseReplayEngines(opt.engine);
+    o.engines = verify::parseEngines(opt.engine);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--engine: ") + e.what());
   }
@@ -113,7 +113,7 @@ int replayCommand(const ReplayCliOptions& opt) {
 
   int status = 0;
   for (const verify::EngineReplay& e : r.engines) {
-    const std::string name = verify::replayEngineName(e.engine);
+    const std::string name = verify::engineName(e.engine);
     if (!e.completed) {
       std::cerr << "saltus replay: " << e.message << "\n";
       status = 1;

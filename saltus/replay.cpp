@@ -35,7 +35,7 @@ std::string seriesCsv(const ReplayResult& r) {
   s << "\n# coordinates:";
   for (const std::string& c : r.coordinates) s << ' ' << c;
   s << "\n# engines:";
-  for (const verify::EngineReplay& e : r.engines) s << ' ' << verify::replayEngineName(e.engine);
+  for (const verify::EngineReplay& e : r.engines) s << ' ' << verify::engineName(e.engine);
   s << "\n# events:";
   for (const verify::ContactEvent& e : r.optimised_events) s << ' ' << verify::eventKindName(e.kind) << '@' << e.t;
   s << "\nt";
@@ -43,7 +43,7 @@ std::string seriesCsv(const ReplayResult& r) {
   for (const std::string& c : r.inputs) s << ",opt.u." << csvField(c);
   s << ",opt.energy";
   for (const verify::EngineReplay& e : r.engines) {
-    const std::string n = verify::replayEngineName(e.engine);
+    const std::string n = verify::engineName(e.engine);
     for (const std::string& c : r.coordinates)
       s << ',' << n << ".q." << csvField(c) << ',' << n << ".dq." << csvField(c) << ',' << n << ".dv." << csvField(c);
     s << ',' << n << ".energy," << n << ".penetration";
@@ -160,14 +160,14 @@ nlohmann::ordered_json reportJson(const ReplayResult& r, const std::string& dir)
     for (const verify::ContactEvent& ev : e.events) ej["events"].push_back(eventJson(ev, r));
     ej["unmatched_events"] = nlohmann::json::array();
     for (const verify::ContactEvent& ev : e.unmatched) ej["unmatched_events"].push_back(eventJson(ev, r));
-    if (e.engine == verify::ReplayEngine::Bullet) {
+    if (e.engine == verify::EngineKind::Bullet) {
       ej["solver"] = verify::bulletSolverName(r.options.bullet.solver);
       ej["mlcp_fallbacks"] = e.mlcp_fallbacks;
       ej["approximations"] = e.approximations;
     } else {
       ej["lcp_failures"] = e.lcp_failures;
     }
-    j["engines"][verify::replayEngineName(e.engine)] = ej;
+    j["engines"][verify::engineName(e.engine)] = ej;
   }
   j["series_csv"] = "replay.csv";
   return j;

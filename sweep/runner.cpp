@@ -113,7 +113,7 @@ void replayCheck(SweepRecord& r, const std::string& solution_dir, const ReplayCh
   try {
     const collocation::SavedSolution solution = collocation::loadSolution(solution_dir);
     verify::ReplayOptions o;
-    o.engines = {verify::ReplayEngine::Saltus};
+    o.engines = {verify::EngineKind::Saltus};
     o.dt = check.dt;
     o.tolerance = check.tolerance;
     o.max_series = 2;  // only the figures are kept

@@ -15,15 +15,6 @@ using collocation::CollocationTrajectory;
 using collocation::SavedSolution;
 using collocation::Side;
 
-const char* replayEngineName(ReplayEngine engine) { return engine == ReplayEngine::Saltus ? "saltus" : "bullet"; }
-
-std::vector<ReplayEngine> parseReplayEngines(const std::string& name) {
-  if (name == "saltus") return {ReplayEngine::Saltus};
-  if (name == "bullet") return {ReplayEngine::Bullet};
-  if (name == "both") return {ReplayEngine::Saltus, ReplayEngine::Bullet};
-  throw std::invalid_argument("unknown engine '" + name + "' (expected saltus, bullet or both)");
-}
-
 const char* feedbackName(Feedback feedback) { return feedback == Feedback::None ? "none" : "pd"; }
 
 Feedback parseFeedback(const std::string& name) {
@@ -82,81 +73,6 @@ void checkReplayOptions(const ReplayOptions& o, const SavedSolution& solution) {
 }
 
 namespace {
-
-// The two engines behind one interface.
-class Engine {
- public:
-  virtual ~Engine() = default;
-  virtual void step(const Eigen::VectorXd& tau) = 0;
-  virtual const Eigen::VectorXd& q() const = 0;
-  virtual const Eigen::VectorXd& v() const = 0;
-  virtual double energy() = 0;
-  virtual double maxPenetration() const = 0;  // the engine's own count, limit stops included
-  // Scene contact c after the last step.
-  virtual double gap(int c) const = 0;
-  virtual double vn(int c) const = 0;
-  virtual double impulse(int c) const = 0;  // |p_n| + |p_t|
-};
-
-class SaltusEngine final : public Engine {
- public:
-  SaltusEngine(const scene::Scene& scene, const ReplayOptions& o, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0)
-      : sim_(scene, stepperOptions(o)) {
-    sim_.reset(q0, v0, 0.0);
-  }
-  static timestepper::StepperOptions stepperOptions(const ReplayOptions& o) {
-    timestepper::StepperOptions s;
-    s.dt = o.dt;
-    s.theta = o.theta;
-    return s;
-  }
-  void step(const Eigen::VectorXd& tau) override {
-    sim_.setInput(tau);
-    sim_.step();
-  }
-  const Eigen::VectorXd& q() const override { return sim_.q(); }
-  const Eigen::VectorXd& v() const override { return sim_.v(); }
-  double energy() override { return sim_.energy(); }
-  double maxPenetration() const override { return sim_.stats().max_penetration; }
-  double gap(int c) const override { return sim_.contacts()[c].gap; }
-  double vn(int c) const override { return sim_.contacts()[c].vn; }
-  double impulse(int c) const override {
-    const timestepper::ContactReport& r = sim_.contacts()[c];
-    return std::abs(r.pn) + std::hypot(r.pt1, r.pt2);
-  }
-  long lcpFailures() const { return sim_.stats().lcp_failures; }
-
- private:
-  timestepper::TimeStepper sim_;
-};
-
-class BulletEngine final : public Engine {
- public:
-  BulletEngine(const scene::Scene& scene, const ReplayOptions& o, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0)
-      : world_(scene, bulletOptions(o)) {
-    world_.reset(q0, v0, 0.0);
-  }
-  static BulletWorldOptions bulletOptions(const ReplayOptions& o) {
-    BulletWorldOptions b = o.bullet;
-    b.dt = o.dt;
-    return b;
-  }
-  void step(const Eigen::VectorXd& tau) override { world_.step(tau); }
-  const Eigen::VectorXd& q() const override { return world_.q(); }
-  const Eigen::VectorXd& v() const override { return world_.v(); }
-  double energy() override { return world_.energy(); }
-  double maxPenetration() const override { return world_.stats().max_penetration; }
-  double gap(int c) const override { return world_.contacts()[c].gap; }
-  double vn(int c) const override { return world_.contacts()[c].vn; }
-  double impulse(int c) const override {
-    const BulletContactReport& r = world_.contacts()[c];
-    return std::abs(r.pn) + std::hypot(r.pt1, r.pt2);
-  }
-  const BulletWorld& world() const { return world_; }
-
- private:
-  BulletWorld world_;
-};
 
 // Gaps and gap rates (normal velocities without a belt's motion) of the scene contacts at (q, v),
 // from the contact layer.
@@ -332,17 +248,18 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
   Eigen::VectorXd offset = options.input_offset.size() == nu ? options.input_offset : Eigen::VectorXd::Zero(nu);
   Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
 
-  for (ReplayEngine which : options.engines) {
+  for (EngineKind which : options.engines) {
     EngineReplay E;
     E.engine = which;
-    std::unique_ptr<Engine> engine;
-    if (which == ReplayEngine::Saltus) {
-      engine = std::make_unique<SaltusEngine>(scene, options, q_opt[0], v_opt[0]);
-    } else {
-      auto b = std::make_unique<BulletEngine>(scene, options, q_opt[0], v_opt[0]);
-      E.approximations = b->world().approximations();
-      engine = std::move(b);
-    }
+    EngineOptions setup;
+    setup.kind = which;
+    setup.saltus.dt = options.dt;
+    setup.saltus.theta = options.theta;
+    setup.bullet = options.bullet;
+    setup.bullet.dt = options.dt;
+    const std::unique_ptr<Engine> engine = makeEngine(scene, setup);
+    engine->reset(q_opt[0], v_opt[0], 0.0);
+    E.approximations = engine->approximations();
     E.energy_start = engine->energy();
 
     Eigen::VectorXd tau(nv), v_before(nv);
@@ -378,7 +295,6 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
         engine->step(tau);
         const Eigen::VectorXd& q = engine->q();
         const Eigen::VectorXd& v = engine->v();
-        if (!q.allFinite() || !v.allFinite()) throw std::runtime_error("the state is no longer finite");
         const long k1 = k + 1;
         dq = q - q_opt[k1];
         dv = v - v_opt[k1];
@@ -395,9 +311,10 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
         int hit = -1;
         double largest = 0;
         for (int c = 0; c < nc; ++c) {
-          gaps[c][k1] = engine->gap(c);
+          const EngineContact state = engine->contact(c);
+          gaps[c][k1] = state.gap;
           penetration = std::max(penetration, -gaps[c][k1]);
-          const double p = engine->impulse(c);
+          const double p = std::abs(state.pn) + state.pt;
           if (p > 0 && (hit < 0 || p > largest)) hit = c, largest = p;
         }
         E.max_penetration = std::max(E.max_penetration, penetration);
@@ -407,7 +324,7 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
           E.events.push_back({no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, hit, t_grid[k1]});
         }
         in_impact = impact;
-        for (int c = 0; c < nc; ++c) vn_prev[c] = engine->vn(c);
+        for (int c = 0; c < nc; ++c) vn_prev[c] = engine->contact(c).vn;
 
         if (recorded(k1)) {
           E.series.t.push_back(t_grid[k1]);
@@ -422,13 +339,12 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
       E.completed = true;
     } catch (const std::exception& e) {
       E.completed = false;
-      E.message = std::string(replayEngineName(which)) + " failed at t = " + std::to_string(t_grid[k]) + " s: " + e.what();
+      E.message = std::string(engineName(which)) + " failed at t = " + std::to_string(t_grid[k]) + " s: " + e.what();
     }
     E.steps = k;
     E.energy_end = engine->energy();
     E.max_penetration = std::max(E.max_penetration, engine->maxPenetration());
-    if (auto* s = dynamic_cast<SaltusEngine*>(engine.get())) E.lcp_failures = s->lcpFailures();
-    if (auto* b = dynamic_cast<BulletEngine*>(engine.get())) E.mlcp_fallbacks = b->world().stats().mlcp_fallbacks;
+    (which == EngineKind::Saltus ? E.lcp_failures : E.mlcp_fallbacks) = engine->failures();
 
     const double steps = std::max(1L, k);
     for (int i = 0; i < nv; ++i) {

@@ -64,20 +64,16 @@
 #include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 #include "verify/bullet_world.hpp"
+#include "verify/engine.hpp"
 
 namespace saltus::verify {
-
-enum class ReplayEngine { Saltus, Bullet };
-const char* replayEngineName(ReplayEngine engine);  // "saltus", "bullet"
-// "saltus", "bullet" or "both" → the list; throws std::invalid_argument otherwise.
-std::vector<ReplayEngine> parseReplayEngines(const std::string& name);
 
 enum class Feedback { None, Pd };
 const char* feedbackName(Feedback feedback);  // "none", "pd"
 Feedback parseFeedback(const std::string& name);  // throws std::invalid_argument
 
 struct ReplayOptions {
-  std::vector<ReplayEngine> engines{ReplayEngine::Saltus};
+  std::vector<EngineKind> engines{EngineKind::Saltus};
   double dt = 1e-4;
   // Saltus stepper: θ = ½ (Moreau's midpoint scheme, second order in free flight). Bullet is
   // semi-implicit Euler (first order) whatever this says.
@@ -145,7 +141,7 @@ struct ReplaySeries {
 };
 
 struct EngineReplay {
-  ReplayEngine engine;
+  EngineKind engine;
   bool completed = false;  // false: the engine failed (message), figures up to the failure
   std::string message;
   long steps = 0;

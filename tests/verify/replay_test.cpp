@@ -53,7 +53,7 @@ const SavedSolution& pushSolution() {
   return s;
 }
 
-ReplayOptions replayOptions(std::vector<ReplayEngine> engines, double dt = 1e-4) {
+ReplayOptions replayOptions(std::vector<EngineKind> engines, double dt = 1e-4) {
   ReplayOptions o;
   o.engines = std::move(engines);
   o.dt = dt;
@@ -74,7 +74,7 @@ int matchedEvents(const EngineReplay& e) {
 TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
   const SavedSolution& s = dropSolution();
   const double g = 9.81, h = 0.1, e = 0.5;
-  const ReplayResult r = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-4));
+  const ReplayResult r = replay(s, replayOptions({EngineKind::Saltus}, 1e-4));
   ASSERT_EQ(r.engines.size(), 1u);
   const EngineReplay& E = r.engines[0];
   ASSERT_TRUE(E.completed) << E.message;
@@ -113,7 +113,7 @@ TEST(Replay, PointMassDropBounceInTheSaltusStepper) {
   // what remains is the optimisation's own error (complementarity relaxed to 1e-4), far below
   // the first-order O(|Δv| dt) of an impact resolved at a step's end, and it does not grow with dt.
   EXPECT_LT(E.max_position_deviation, 1e-6);
-  const ReplayResult coarse = replay(s, replayOptions({ReplayEngine::Saltus}, 1e-3));
+  const ReplayResult coarse = replay(s, replayOptions({EngineKind::Saltus}, 1e-3));
   EXPECT_LT(coarse.engines[0].max_position_deviation, 1e-6);
 }
 
@@ -129,7 +129,7 @@ TEST(Replay, PendulumConveyorBeltStepsAtTheSolvedMeshTime) {
   EXPECT_EQ(scene.surfaces[0].velocity_schedule[1].velocity, Eigen::Vector3d(0.5, 0, 0));
   EXPECT_GT(traj.meshTimes()[5], 0.01);  // not at rest from the start
 
-  const ReplayResult r = replay(s, replayOptions({ReplayEngine::Saltus}));
+  const ReplayResult r = replay(s, replayOptions({EngineKind::Saltus}));
   const EngineReplay& E = r.engines[0];
   ASSERT_TRUE(E.completed) << E.message;
   EXPECT_TRUE(E.within_tolerance);
@@ -148,7 +148,7 @@ TEST(Replay, PendulumConveyorBeltStepsAtTheSolvedMeshTime) {
   // over ~70 ms): it exceeds the tolerance and the impact without collision stays unmatched.
   // (Here rather than in the Bullet test: ctest runs each test in its own process, and this
   // solve is the slow one.)
-  const ReplayResult c = replay(s, replayOptions({ReplayEngine::Bullet}));
+  const ReplayResult c = replay(s, replayOptions({EngineKind::Bullet}));
   const EngineReplay& C = c.engines[0];
   ASSERT_TRUE(C.completed) << C.message;
   EXPECT_GT(C.max_position_deviation, 5e-3);
@@ -160,10 +160,10 @@ TEST(Replay, PendulumConveyorBeltStepsAtTheSolvedMeshTime) {
 // Bullet: the replay runs and reports finite deviations, matched events, its approximations and
 // no MLCP fallback. On the bounce it is first order like the stepper (the belt: above).
 TEST(Replay, BulletReplayReportsDeviationEventsAndApproximations) {
-  const ReplayResult r = replay(dropSolution(), replayOptions({ReplayEngine::Saltus, ReplayEngine::Bullet}));
+  const ReplayResult r = replay(dropSolution(), replayOptions({EngineKind::Saltus, EngineKind::Bullet}));
   ASSERT_EQ(r.engines.size(), 2u);
   const EngineReplay& B = r.engines[1];
-  EXPECT_EQ(B.engine, ReplayEngine::Bullet);
+  EXPECT_EQ(B.engine, EngineKind::Bullet);
   ASSERT_TRUE(B.completed) << B.message;
   EXPECT_TRUE(std::isfinite(B.max_position_deviation));
   EXPECT_GT(B.max_position_deviation, 0.0);
@@ -186,7 +186,7 @@ TEST(Replay, BulletReplayReportsDeviationEventsAndApproximations) {
 TEST(Replay, InputReplayAndAWrongInputCaughtByTheTolerance) {
   const SavedSolution& s = pushSolution();
   const double d = 0.1, T = 0.3;
-  ReplayOptions o = replayOptions({ReplayEngine::Saltus});
+  ReplayOptions o = replayOptions({EngineKind::Saltus});
   const ReplayResult r = replay(s, o);
   const EngineReplay& E = r.engines[0];
   ASSERT_TRUE(E.completed) << E.message;
@@ -219,21 +219,21 @@ TEST(Replay, InputReplayAndAWrongInputCaughtByTheTolerance) {
 
 TEST(Replay, RefusesBadOptions) {
   const SavedSolution& s = pushSolution();
-  ReplayOptions o = replayOptions({ReplayEngine::Saltus});
+  ReplayOptions o = replayOptions({EngineKind::Saltus});
   o.dt = 0;
   EXPECT_THROW(replay(s, o), std::invalid_argument);
   o.dt = -1e-3;
   EXPECT_THROW(replay(s, o), std::invalid_argument);
-  o = replayOptions({ReplayEngine::Saltus});
+  o = replayOptions({EngineKind::Saltus});
   o.input_offset = Eigen::VectorXd::Zero(2);  // one input
   EXPECT_THROW(replay(s, o), std::invalid_argument);
-  o = replayOptions({ReplayEngine::Saltus});
+  o = replayOptions({EngineKind::Saltus});
   o.tolerance = -1;
   EXPECT_THROW(replay(s, o), std::invalid_argument);
   o = replayOptions({});
   EXPECT_THROW(replay(s, o), std::invalid_argument);
-  EXPECT_THROW(parseReplayEngines("ode"), std::invalid_argument);
-  EXPECT_EQ(parseReplayEngines("both").size(), 2u);
+  EXPECT_THROW(parseEngines("ode"), std::invalid_argument);
+  EXPECT_EQ(parseEngines("both").size(), 2u);
   EXPECT_THROW(parseFeedback("pid"), std::invalid_argument);
 }
 
@@ -277,7 +277,7 @@ TEST(Replay, FirstOrderSolutionWithinItsOwnStepError) {
     const collocation::SolveReport r = collocation::solve(*s.transcription, seeding.seed, so);
     ASSERT_TRUE(r.feasible) << "N = " << N << ": " << r.stages.back().status;
     s.x = r.x;
-    const ReplayResult R = replay(s, replayOptions({ReplayEngine::Saltus}));
+    const ReplayResult R = replay(s, replayOptions({EngineKind::Saltus}));
     const EngineReplay& e = R.engines.at(0);
     ASSERT_TRUE(e.completed) << e.message;
     const std::vector<double> mesh = s.trajectory().meshTimes();
@@ -290,7 +290,7 @@ TEST(Replay, FirstOrderSolutionWithinItsOwnStepError) {
     EXPECT_GT(e.max_position_deviation, 1e-3) << "N = " << N << ": a first-order solution beyond 10 m/s × dt";
     deviation.push_back(e.max_position_deviation);
     // A given tolerance is applied as it is.
-    ReplayOptions given = replayOptions({ReplayEngine::Saltus});
+    ReplayOptions given = replayOptions({EngineKind::Saltus});
     given.tolerance = 1e-3;
     const ReplayResult G = replay(s, given);
     EXPECT_EQ(G.method_allowance, 0);
