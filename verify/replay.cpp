@@ -160,6 +160,225 @@ void matchEvents(const std::vector<ContactEvent>& optimised, EngineReplay& e, do
     if (!used[i]) e.unmatched.push_back(e.events[i]);
 }
 
+// The optimised trajectory on the replay's step grid t_k = k dt (k = 0 … steps, the last clamped
+// to T): states (right limits at a jump), the mean input over each step, the contacts' gaps.
+struct OptimisedGrid {
+  std::vector<double> t;
+  std::vector<Eigen::VectorXd> q, v, u;   // u: steps entries
+  std::vector<std::vector<double>> gaps;  // per scene contact, per grid time
+  long steps() const { return static_cast<long>(t.size()) - 1; }
+};
+
+OptimisedGrid optimisedOnGrid(const SavedSolution& solution, const CollocationTrajectory& traj, double dt, long steps,
+                              ContactKinematics& kin) {
+  const int nu = static_cast<int>(solution.problem->inputs.size());
+  const collocation::LegendreGauss& lg = solution.transcription->lg();
+  auto timeOf = [&](long k) { return std::min(traj.endTime(), static_cast<double>(k) * dt); };
+  OptimisedGrid g;
+  g.t.resize(steps + 1);
+  g.q.resize(steps + 1);
+  g.v.resize(steps + 1);
+  g.u.resize(steps);
+  g.gaps.assign(kin.contacts(), std::vector<double>(steps + 1));
+  for (long k = 0; k <= steps; ++k) {
+    g.t[k] = timeOf(k);
+    const collocation::TrajectoryPoint p = traj.at(g.t[k], Side::After);
+    g.q[k] = p.q;
+    g.v[k] = p.v;
+    if (k < steps) g.u[k] = meanInput(traj, lg, nu, g.t[k], timeOf(k + 1));
+    kin.set(p.q, p.v);
+    for (int c = 0; c < kin.contacts(); ++c) g.gaps[c][k] = kin.gap(c);
+  }
+  return g;
+}
+
+// The optimised events: closings on the grid, impacts from the velocity jumps (put on the scene
+// contact with the largest impulse there; a jump at a limit stop only is not a contact event).
+std::vector<ContactEvent> optimisedEvents(const SavedSolution& solution, const CollocationTrajectory& traj,
+                                          const OptimisedGrid& grid, const ReplayOptions& options,
+                                          ContactKinematics& kin) {
+  std::vector<ContactEvent> events;
+  closingEvents(grid.gaps, grid.t, options.gap_threshold, events);
+  const int nc = kin.contacts();
+  for (const CollocationTrajectory::Jump& j : traj.jumps(options.jump_threshold)) {
+    int contact = -1;
+    double largest = 0;
+    const collocation::ElementLayout& L = solution.transcription->layout()[j.element];
+    for (int c = 0; c < nc; ++c) {
+      const int rn = L.contacts[c].rn.empty() ? -1 : L.contacts[c].rn[0];
+      const double p = rn >= 0 ? std::abs(solution.x[rn]) : 0.0;
+      if (p > largest) contact = c, largest = p;  // −1 when no scene contact carries an impulse
+    }
+    if (contact < 0) continue;
+    const collocation::TrajectoryPoint before = traj.at(j.t, Side::Before);
+    kin.set(before.q, before.v);
+    const bool no_approach = kin.gap(contact) <= options.gap_threshold && kin.vn(contact) > -options.approach_threshold;
+    events.push_back({no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, contact, j.t});
+  }
+  sortEvents(events);
+  return events;
+}
+
+// Deviation from the optimised state, accumulated over the steps, per coordinate.
+class DeviationStatistics {
+ public:
+  explicit DeviationStatistics(int nv)
+      : dq_(Eigen::VectorXd::Zero(nv)), dv_(Eigen::VectorXd::Zero(nv)), max_q_(Eigen::VectorXd::Zero(nv)),
+        max_v_(Eigen::VectorXd::Zero(nv)), sum_q2_(Eigen::VectorXd::Zero(nv)), sum_v2_(Eigen::VectorXd::Zero(nv)),
+        t_max_q_(Eigen::VectorXd::Zero(nv)) {}
+
+  // The deviation after a step ending at t.
+  void add(double t, const Eigen::VectorXd& dq, const Eigen::VectorXd& dv) {
+    dq_ = dq;
+    dv_ = dv;
+    for (Eigen::Index i = 0; i < dq.size(); ++i) {
+      if (std::abs(dq[i]) > max_q_[i]) max_q_[i] = std::abs(dq[i]), t_max_q_[i] = t;
+      max_v_[i] = std::max(max_v_[i], std::abs(dv[i]));
+    }
+    sum_q2_ += dq.cwiseAbs2();
+    sum_v2_ += dv.cwiseAbs2();
+    sum_max2_ += dq.cwiseAbs2().maxCoeff();
+  }
+
+  // Per coordinate and over all of them, after `steps` steps: maximum, final value, RMS.
+  void report(const std::vector<std::string>& coordinates, long steps_done, EngineReplay& E) const {
+    const double steps = static_cast<double>(std::max(1L, steps_done));
+    for (std::size_t i = 0; i < coordinates.size(); ++i) {
+      CoordinateDeviation d;
+      d.coordinate = coordinates[i];
+      d.max_q = max_q_[i];
+      d.t_max_q = t_max_q_[i];
+      d.rms_q = std::sqrt(sum_q2_[i] / steps);
+      d.max_v = max_v_[i];
+      d.rms_v = std::sqrt(sum_v2_[i] / steps);
+      d.final_q = std::abs(dq_[i]);
+      d.final_v = std::abs(dv_[i]);
+      E.coordinates.push_back(d);
+      if (d.max_q >= E.max_position_deviation) {
+        E.max_position_deviation = d.max_q;
+        E.t_max_position_deviation = d.t_max_q;
+      }
+      E.final_position_deviation = std::max(E.final_position_deviation, d.final_q);
+      E.max_velocity_deviation = std::max(E.max_velocity_deviation, d.max_v);
+      E.final_velocity_deviation = std::max(E.final_velocity_deviation, d.final_v);
+    }
+    E.rms_position_deviation = std::sqrt(sum_max2_ / steps);
+  }
+
+ private:
+  Eigen::VectorXd dq_, dv_;  // of the last step
+  Eigen::VectorXd max_q_, max_v_, sum_q2_, sum_v2_, t_max_q_;
+  double sum_max2_ = 0;  // Σ_k max_i dq_i²: the RMS of the largest coordinate deviation
+};
+
+// One engine's replay: from the optimised initial state, step k driven by the scene's force plus
+// the (modified) mean input and the PD term; deviations, events, penetration and the series.
+EngineReplay replayIn(EngineKind which, const scene::Scene& scene, const collocation::Problem& problem,
+                      const OptimisedGrid& grid, const ReplayOptions& options, const ReplayResult& R,
+                      ContactKinematics& kin) {
+  const int nv = scene.model.nv();
+  const int nu = static_cast<int>(problem.inputs.size());
+  const int nc = kin.contacts();
+  const long n_steps = grid.steps();
+  const Eigen::VectorXd offset = options.input_offset.size() == nu ? options.input_offset : Eigen::VectorXd::Zero(nu);
+  const Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
+
+  EngineReplay E;
+  E.engine = which;
+  EngineOptions setup;
+  setup.kind = which;
+  setup.saltus.dt = options.dt;
+  setup.saltus.theta = options.theta;
+  setup.bullet = options.bullet;
+  setup.bullet.dt = options.dt;
+  const std::unique_ptr<Engine> engine = makeEngine(scene, setup);
+  engine->reset(grid.q[0], grid.v[0], 0.0);
+  E.approximations = engine->approximations();
+  E.energy_start = engine->energy();
+
+  Eigen::VectorXd tau(nv), v_before(nv);
+  DeviationStatistics deviation(nv);
+  std::vector<std::vector<double>> gaps(nc, std::vector<double>(n_steps + 1));
+  std::vector<double> vn_prev(nc);
+  kin.set(grid.q[0], grid.v[0]);
+  for (int c = 0; c < nc; ++c) gaps[c][0] = grid.gaps[c][0], vn_prev[c] = kin.vn(c);
+  bool in_impact = false;
+  E.series.t.push_back(0.0);
+  E.series.q.push_back(engine->q());
+  E.series.v.push_back(engine->v());
+  E.series.dq.push_back(Eigen::VectorXd::Zero(nv));
+  E.series.dv.push_back(Eigen::VectorXd::Zero(nv));
+  E.series.energy.push_back(E.energy_start);
+  E.series.penetration.push_back(0.0);
+  long k = 0;
+  try {
+    for (; k < n_steps; ++k) {
+      tau = tau_base;
+      for (int i = 0; i < nu; ++i) {
+        const int coord = problem.inputs[i];
+        tau[coord] += options.input_scale * grid.u[k][i] + offset[i];
+        if (options.feedback == Feedback::Pd)
+          tau[coord] += options.kp * (grid.q[k][coord] - engine->q()[coord]) +
+                        options.kd * (grid.v[k][coord] - engine->v()[coord]);
+      }
+      v_before = engine->v();
+      engine->step(tau);
+      const Eigen::VectorXd& q = engine->q();
+      const Eigen::VectorXd& v = engine->v();
+      const long k1 = k + 1;
+      const Eigen::VectorXd dq = q - grid.q[k1], dv = v - grid.v[k1];
+      deviation.add(grid.t[k1], dq, dv);
+
+      // Events and penetration.
+      double penetration = 0;
+      int hit = -1;
+      double largest = 0;
+      for (int c = 0; c < nc; ++c) {
+        const EngineContact state = engine->contact(c);
+        gaps[c][k1] = state.gap;
+        penetration = std::max(penetration, -gaps[c][k1]);
+        const double p = std::abs(state.pn) + state.pt;
+        if (p > 0 && (hit < 0 || p > largest)) hit = c, largest = p;
+      }
+      E.max_penetration = std::max(E.max_penetration, penetration);
+      const bool impact = hit >= 0 && (v - v_before).cwiseAbs().maxCoeff() > options.jump_threshold;
+      if (impact && !in_impact) {
+        const bool no_approach = gaps[hit][k] <= options.gap_threshold && vn_prev[hit] > -options.approach_threshold;
+        E.events.push_back({no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, hit, grid.t[k1]});
+      }
+      in_impact = impact;
+      for (int c = 0; c < nc; ++c) vn_prev[c] = engine->contact(c).vn;
+
+      if (k1 % R.stride == 0 || k1 == n_steps) {
+        E.series.t.push_back(grid.t[k1]);
+        E.series.q.push_back(q);
+        E.series.v.push_back(v);
+        E.series.dq.push_back(dq);
+        E.series.dv.push_back(dv);
+        E.series.energy.push_back(engine->energy());
+        E.series.penetration.push_back(std::max(0.0, penetration));
+      }
+    }
+    E.completed = true;
+  } catch (const std::exception& e) {
+    E.completed = false;
+    E.message = std::string(engineName(which)) + " failed at t = " + std::to_string(grid.t[k]) + " s: " + e.what();
+  }
+  E.steps = k;
+  E.energy_end = engine->energy();
+  E.max_penetration = std::max(E.max_penetration, engine->maxPenetration());
+  (which == EngineKind::Saltus ? E.lcp_failures : E.mlcp_fallbacks) = engine->failures();
+  deviation.report(R.coordinates, k, E);
+  E.within_tolerance = E.completed && E.max_position_deviation <= R.tolerance;
+
+  const std::vector<double> t_done(grid.t.begin(), grid.t.begin() + k + 1);
+  for (auto& g : gaps) g.resize(static_cast<std::size_t>(k) + 1);
+  closingEvents(gaps, t_done, options.gap_threshold, E.events);
+  sortEvents(E.events);
+  matchEvents(R.optimised_events, E, options.match_window);
+  return E;
+}
+
 }  // namespace
 
 ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options) {
@@ -169,9 +388,6 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
   const CollocationTrajectory traj = solution.trajectory();
   const dynamics::Model<double>& model = problem.scene.model;
   const int nv = model.nv();
-  const int nu = static_cast<int>(problem.inputs.size());
-  const int nc = static_cast<int>(problem.scene.contacts.size());
-  const double dt = options.dt;
 
   ReplayResult R;
   R.options = options;
@@ -187,195 +403,33 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
   const scene::Scene scene = replayScene(solution);
   R.surfaces = scene.surfaces;
 
-  // Steps that fit in [0, T] (the optimised trajectory is not defined beyond T).
-  const long n_steps = std::max(1L, static_cast<long>(std::floor(R.end_time / dt * (1 + 1e-12))));
+  // Steps that fit in [0, T] (the optimised trajectory is not defined beyond T); the series
+  // keep every stride-th step and the last.
+  const long n_steps = std::max(1L, static_cast<long>(std::floor(R.end_time / options.dt * (1 + 1e-12))));
   R.steps = n_steps;
   R.stride = static_cast<int>((n_steps + options.max_series - 1) / options.max_series);
-  auto recorded = [&](long k) { return k % R.stride == 0 || k == n_steps; };
-  auto timeOf = [&](long k) { return std::min(R.end_time, static_cast<double>(k) * dt); };
-
-  // The optimised trajectory on the step grid: states (right limits), mean inputs, gaps, energy.
-  std::vector<Eigen::VectorXd> q_opt(n_steps + 1), v_opt(n_steps + 1), u_mean(n_steps);
-  std::vector<std::vector<double>> gaps_opt(nc, std::vector<double>(n_steps + 1));
-  std::vector<double> t_grid(n_steps + 1);
   ContactKinematics kin(tr);
-  const collocation::LegendreGauss& lg = tr.lg();
+  const OptimisedGrid grid = optimisedOnGrid(solution, traj, options.dt, n_steps, kin);
   for (long k = 0; k <= n_steps; ++k) {
-    t_grid[k] = timeOf(k);
-    const collocation::TrajectoryPoint p = traj.at(t_grid[k], Side::After);
-    q_opt[k] = p.q;
-    v_opt[k] = p.v;
-    if (k < n_steps) u_mean[k] = meanInput(traj, lg, nu, t_grid[k], timeOf(k + 1));
-    kin.set(p.q, p.v);
-    for (int c = 0; c < nc; ++c) gaps_opt[c][k] = kin.gap(c);
-    if (recorded(k)) {
-      R.t.push_back(t_grid[k]);
-      R.q_opt.push_back(p.q);
-      R.v_opt.push_back(p.v);
-      R.energy_opt.push_back(kin.energy());
-      R.u_applied.push_back(k < n_steps ? u_mean[k] : u_mean[k - 1]);
-    }
+    if (k % R.stride != 0 && k != n_steps) continue;
+    R.t.push_back(grid.t[k]);
+    R.q_opt.push_back(grid.q[k]);
+    R.v_opt.push_back(grid.v[k]);
+    kin.set(grid.q[k], grid.v[k]);
+    R.energy_opt.push_back(kin.energy());
+    R.u_applied.push_back(k < n_steps ? grid.u[k] : grid.u[k - 1]);
   }
   if (tr.method() == collocation::Method::FirstOrder && options.tolerance <= 0) {
     double speed = 0, step = 0;
-    for (const Eigen::VectorXd& v : v_opt) speed = std::max(speed, v.cwiseAbs().maxCoeff());
+    for (const Eigen::VectorXd& v : grid.v) speed = std::max(speed, v.cwiseAbs().maxCoeff());
     const std::vector<double> steps = traj.meshTimes();  // a first-order element is one step
     for (std::size_t n = 1; n < steps.size(); ++n) step = std::max(step, steps[n] - steps[n - 1]);
     R.method_allowance = speed * step;
     R.tolerance += R.method_allowance;
   }
+  R.optimised_events = optimisedEvents(solution, traj, grid, options, kin);
 
-  // Optimised events: closings on the grid, impacts from the velocity jumps.
-  closingEvents(gaps_opt, t_grid, options.gap_threshold, R.optimised_events);
-  for (const CollocationTrajectory::Jump& j : traj.jumps(options.jump_threshold)) {
-    int contact = -1;
-    double largest = 0;
-    const collocation::ElementLayout& L = tr.layout()[j.element];
-    for (int c = 0; c < nc; ++c) {
-      const int rn = L.contacts[c].rn.empty() ? -1 : L.contacts[c].rn[0];
-      const double p = rn >= 0 ? std::abs(solution.x[rn]) : 0.0;
-      if (p > largest) contact = c, largest = p;  // −1 when no scene contact carries an impulse
-    }
-    if (contact < 0) continue;  // a jump at a joint-limit stop only
-    const collocation::TrajectoryPoint before = traj.at(j.t, Side::Before);
-    kin.set(before.q, before.v);
-    const bool no_approach = kin.gap(contact) <= options.gap_threshold && kin.vn(contact) > -options.approach_threshold;
-    R.optimised_events.push_back(
-        {no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, contact, j.t});
-  }
-  sortEvents(R.optimised_events);
-
-  Eigen::VectorXd offset = options.input_offset.size() == nu ? options.input_offset : Eigen::VectorXd::Zero(nu);
-  Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
-
-  for (EngineKind which : options.engines) {
-    EngineReplay E;
-    E.engine = which;
-    EngineOptions setup;
-    setup.kind = which;
-    setup.saltus.dt = options.dt;
-    setup.saltus.theta = options.theta;
-    setup.bullet = options.bullet;
-    setup.bullet.dt = options.dt;
-    const std::unique_ptr<Engine> engine = makeEngine(scene, setup);
-    engine->reset(q_opt[0], v_opt[0], 0.0);
-    E.approximations = engine->approximations();
-    E.energy_start = engine->energy();
-
-    Eigen::VectorXd tau(nv), v_before(nv);
-    Eigen::VectorXd dq = Eigen::VectorXd::Zero(nv), dv = Eigen::VectorXd::Zero(nv);  // of the last step
-    Eigen::VectorXd max_q = Eigen::VectorXd::Zero(nv), max_v = Eigen::VectorXd::Zero(nv);
-    Eigen::VectorXd sum_q2 = Eigen::VectorXd::Zero(nv), sum_v2 = Eigen::VectorXd::Zero(nv);
-    Eigen::VectorXd t_max_q = Eigen::VectorXd::Zero(nv);
-    double sum_max2 = 0;  // Σ_k max_i dq_i²: the RMS of the largest coordinate deviation
-    std::vector<std::vector<double>> gaps(nc, std::vector<double>(n_steps + 1));
-    std::vector<double> vn_prev(nc);
-    kin.set(q_opt[0], v_opt[0]);
-    for (int c = 0; c < nc; ++c) gaps[c][0] = gaps_opt[c][0], vn_prev[c] = kin.vn(c);
-    bool in_impact = false;
-    E.series.t.push_back(0.0);
-    E.series.q.push_back(engine->q());
-    E.series.v.push_back(engine->v());
-    E.series.dq.push_back(Eigen::VectorXd::Zero(nv));
-    E.series.dv.push_back(Eigen::VectorXd::Zero(nv));
-    E.series.energy.push_back(E.energy_start);
-    E.series.penetration.push_back(0.0);
-    long k = 0;
-    try {
-      for (; k < n_steps; ++k) {
-        tau = tau_base;
-        for (int i = 0; i < nu; ++i) {
-          const int coord = problem.inputs[i];
-          tau[coord] += options.input_scale * u_mean[k][i] + offset[i];
-          if (options.feedback == Feedback::Pd)
-            tau[coord] += options.kp * (q_opt[k][coord] - engine->q()[coord]) +
-                          options.kd * (v_opt[k][coord] - engine->v()[coord]);
-        }
-        v_before = engine->v();
-        engine->step(tau);
-        const Eigen::VectorXd& q = engine->q();
-        const Eigen::VectorXd& v = engine->v();
-        const long k1 = k + 1;
-        dq = q - q_opt[k1];
-        dv = v - v_opt[k1];
-        for (int i = 0; i < nv; ++i) {
-          if (std::abs(dq[i]) > max_q[i]) max_q[i] = std::abs(dq[i]), t_max_q[i] = t_grid[k1];
-          max_v[i] = std::max(max_v[i], std::abs(dv[i]));
-        }
-        sum_q2 += dq.cwiseAbs2();
-        sum_v2 += dv.cwiseAbs2();
-        sum_max2 += dq.cwiseAbs2().maxCoeff();
-
-        // Events and penetration.
-        double penetration = 0;
-        int hit = -1;
-        double largest = 0;
-        for (int c = 0; c < nc; ++c) {
-          const EngineContact state = engine->contact(c);
-          gaps[c][k1] = state.gap;
-          penetration = std::max(penetration, -gaps[c][k1]);
-          const double p = std::abs(state.pn) + state.pt;
-          if (p > 0 && (hit < 0 || p > largest)) hit = c, largest = p;
-        }
-        E.max_penetration = std::max(E.max_penetration, penetration);
-        const bool impact = hit >= 0 && (v - v_before).cwiseAbs().maxCoeff() > options.jump_threshold;
-        if (impact && !in_impact) {
-          const bool no_approach = gaps[hit][k] <= options.gap_threshold && vn_prev[hit] > -options.approach_threshold;
-          E.events.push_back({no_approach ? ContactEvent::ImpactWithoutCollision : ContactEvent::Impact, hit, t_grid[k1]});
-        }
-        in_impact = impact;
-        for (int c = 0; c < nc; ++c) vn_prev[c] = engine->contact(c).vn;
-
-        if (recorded(k1)) {
-          E.series.t.push_back(t_grid[k1]);
-          E.series.q.push_back(q);
-          E.series.v.push_back(v);
-          E.series.dq.push_back(dq);
-          E.series.dv.push_back(dv);
-          E.series.energy.push_back(engine->energy());
-          E.series.penetration.push_back(std::max(0.0, penetration));
-        }
-      }
-      E.completed = true;
-    } catch (const std::exception& e) {
-      E.completed = false;
-      E.message = std::string(engineName(which)) + " failed at t = " + std::to_string(t_grid[k]) + " s: " + e.what();
-    }
-    E.steps = k;
-    E.energy_end = engine->energy();
-    E.max_penetration = std::max(E.max_penetration, engine->maxPenetration());
-    (which == EngineKind::Saltus ? E.lcp_failures : E.mlcp_fallbacks) = engine->failures();
-
-    const double steps = std::max(1L, k);
-    for (int i = 0; i < nv; ++i) {
-      CoordinateDeviation d;
-      d.coordinate = R.coordinates[i];
-      d.max_q = max_q[i];
-      d.t_max_q = t_max_q[i];
-      d.rms_q = std::sqrt(sum_q2[i] / steps);
-      d.max_v = max_v[i];
-      d.rms_v = std::sqrt(sum_v2[i] / steps);
-      d.final_q = std::abs(dq[i]);
-      d.final_v = std::abs(dv[i]);
-      E.coordinates.push_back(d);
-      if (d.max_q >= E.max_position_deviation) {
-        E.max_position_deviation = d.max_q;
-        E.t_max_position_deviation = d.t_max_q;
-      }
-      E.final_position_deviation = std::max(E.final_position_deviation, d.final_q);
-      E.max_velocity_deviation = std::max(E.max_velocity_deviation, d.max_v);
-      E.final_velocity_deviation = std::max(E.final_velocity_deviation, d.final_v);
-    }
-    E.rms_position_deviation = std::sqrt(sum_max2 / steps);
-    E.within_tolerance = E.completed && E.max_position_deviation <= R.tolerance;
-
-    std::vector<double> t_done(t_grid.begin(), t_grid.begin() + k + 1);
-    for (auto& g : gaps) g.resize(static_cast<std::size_t>(k) + 1);
-    closingEvents(gaps, t_done, options.gap_threshold, E.events);
-    sortEvents(E.events);
-    matchEvents(R.optimised_events, E, options.match_window);
-    R.engines.push_back(std::move(E));
-  }
+  for (EngineKind which : options.engines) R.engines.push_back(replayIn(which, scene, problem, grid, options, R, kin));
   return R;
 }
 
