@@ -112,6 +112,28 @@ Renderer::~Renderer() {
 }
 
 void Renderer::draw(const Camera& camera, const FrameContent& frame) {
+  const Eigen::Vector3d light = setUpFrame(camera);
+  // Surfaces, each marking its pixels in the stencil buffer (value s + 1) for its shadows.
+  if (settings_.surfaces) {
+    glEnable(GL_STENCIL_TEST);
+    drawSurfaces(frame);
+    if (settings_.shadows) drawShadows(frame, light);
+    glDisable(GL_STENCIL_TEST);
+  }
+  drawModel(frame);
+  // Overlays, drawn over everything so that arrows inside a body stay visible: contact-force
+  // arrows (shaft and head), impulse markers (ring and star in the surface's plane).
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_FOG);
+  drawArrows(frame);
+  if (!frame.markers.empty()) drawMarkers(frame);
+  glFinish();
+  downsample();
+}
+
+// Clears the buffers and sets the projection, the view, the lights and the fog; returns the
+// direction towards the key light (world).
+Eigen::Vector3d Renderer::setUpFrame(const Camera& camera) {
   if (!OSMesaMakeCurrent(gl_->context, gl_->rgba.data(), GL_UNSIGNED_BYTE, gl_->width, gl_->height))
     throw std::runtime_error("render: cannot make the OSMesa context current");
   const auto& bg = settings_.background;
@@ -166,103 +188,107 @@ void Renderer::draw(const Camera& camera, const FrameContent& frame) {
   } else {
     glDisable(GL_FOG);
   }
+  return light;
+}
 
+// The surfaces: a checkered square, or a striped slab for a belt, its stripes shifted by the
+// belt's travel; each marks its pixels in the stencil buffer with s + 1.
+void Renderer::drawSurfaces(const FrameContent& frame) {
+  const scene::Scene& scene = geometry_.scene();
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1, 1);  // behind the shadows drawn exactly on the plane
+  glEnable(GL_TEXTURE_2D);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+  const GLfloat surface_specular[] = {0.05f, 0.05f, 0.05f, 1};
+  glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, surface_specular);
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const scene::Surface& surface = scene.surfaces[s];
+    glStencilFunc(GL_ALWAYS, static_cast<GLint>(s + 1), 0xff);
+    const Eigen::Vector3d n = surface.normal;
+    const Eigen::Vector3d center =
+        settings_.surface_center - n.dot(settings_.surface_center - surface.point) * n;
+    const Eigen::Vector3d belt = beltDirection(surface);
+    const bool is_belt = belt.norm() > 0;
+    // u along the belt's motion (or t1), w across it
+    const Eigen::Vector3d u = is_belt ? belt : Eigen::Vector3d(surface.tangents().col(0));
+    const Eigen::Vector3d w = n.cross(u);
+    const double half_u = settings_.surface_extent, half_w = is_belt ? settings_.belt_width / 2 : settings_.surface_extent;
+    // texture coordinates: world distance / tile, shifted by the belt's travel
+    const double shift = s < frame.surface_shift.size() ? frame.surface_shift[s] : 0.0;
+    const double tile = settings_.tile;
+    glBindTexture(GL_TEXTURE_2D, is_belt ? gl_->stripes : gl_->checker);
+    glColor4f(1, 1, 1, 1);
+    // a grid of cells, not one quad: fixed-function fog and lighting are per vertex
+    constexpr int kCells = 64;
+    glNormal3d(n.x(), n.y(), n.z());
+    for (int j = 0; j < kCells; ++j) {
+      glBegin(GL_QUAD_STRIP);
+      for (int i = 0; i <= kCells; ++i)
+        for (int dj = 1; dj >= 0; --dj) {
+          const double a = -1 + 2.0 * i / kCells, b = -1 + 2.0 * (j + dj) / kCells;
+          const Eigen::Vector3d p = center + a * half_u * u + b * half_w * w;
+          const double tu = (p - surface.point).dot(u), tw = (p - surface.point).dot(w);
+          glTexCoord2d((tu - shift) / tile, tw / tile);
+          glVertex3d(p.x(), p.y(), p.z());
+        }
+      glEnd();
+    }
+    if (is_belt) {  // the belt's sides, a slab of thickness tile/3 below its surface
+      glDisable(GL_TEXTURE_2D);
+      glColor4f(0.25f, 0.26f, 0.28f, 1);
+      const double depth = tile / 3;
+      glBegin(GL_QUADS);
+      for (double side : {-1.0, 1.0}) {
+        const Eigen::Vector3d out = side * w;
+        glNormal3d(out.x(), out.y(), out.z());
+        for (int corner = 0; corner < 4; ++corner) {
+          const double a = (corner == 0 || corner == 3) ? -1 : 1, down = corner < 2 ? 0 : depth;
+          const Eigen::Vector3d p = center + a * half_u * u + side * half_w * w - down * n;
+          glVertex3d(p.x(), p.y(), p.z());
+        }
+      }
+      glEnd();
+      glEnable(GL_TEXTURE_2D);
+    }
+  }
+  glDisable(GL_TEXTURE_2D);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+// Planar shadows: the shapes flattened onto each surface along the key light, darkening each
+// stencil-marked pixel once (the stencil is cleared where a shadow is drawn).
+void Renderer::drawShadows(const FrameContent& frame, const Eigen::Vector3d& light) {
   const scene::Scene& scene = geometry_.scene();
   const auto& shapes = geometry_.shapes();
   const auto& meshes = geometry_.meshes();
-
-  // Surfaces, each marking its pixels in the stencil buffer (value s + 1) for its shadows.
-  if (settings_.surfaces) {
-    glEnable(GL_STENCIL_TEST);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1, 1);  // behind the shadows drawn exactly on the plane
-    glEnable(GL_TEXTURE_2D);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    const GLfloat surface_specular[] = {0.05f, 0.05f, 0.05f, 1};
-    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, surface_specular);
-    for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-      const scene::Surface& surface = scene.surfaces[s];
-      glStencilFunc(GL_ALWAYS, static_cast<GLint>(s + 1), 0xff);
-      const Eigen::Vector3d n = surface.normal;
-      const Eigen::Vector3d center =
-          settings_.surface_center - n.dot(settings_.surface_center - surface.point) * n;
-      const Eigen::Vector3d belt = beltDirection(surface);
-      const bool is_belt = belt.norm() > 0;
-      // u along the belt's motion (or t1), w across it
-      const Eigen::Vector3d u = is_belt ? belt : Eigen::Vector3d(surface.tangents().col(0));
-      const Eigen::Vector3d w = n.cross(u);
-      const double half_u = settings_.surface_extent, half_w = is_belt ? settings_.belt_width / 2 : settings_.surface_extent;
-      // texture coordinates: world distance / tile, shifted by the belt's travel
-      const double shift = s < frame.surface_shift.size() ? frame.surface_shift[s] : 0.0;
-      const double tile = settings_.tile;
-      glBindTexture(GL_TEXTURE_2D, is_belt ? gl_->stripes : gl_->checker);
-      glColor4f(1, 1, 1, 1);
-      // a grid of cells, not one quad: fixed-function fog and lighting are per vertex
-      constexpr int kCells = 64;
-      glNormal3d(n.x(), n.y(), n.z());
-      for (int j = 0; j < kCells; ++j) {
-        glBegin(GL_QUAD_STRIP);
-        for (int i = 0; i <= kCells; ++i)
-          for (int dj = 1; dj >= 0; --dj) {
-            const double a = -1 + 2.0 * i / kCells, b = -1 + 2.0 * (j + dj) / kCells;
-            const Eigen::Vector3d p = center + a * half_u * u + b * half_w * w;
-            const double tu = (p - surface.point).dot(u), tw = (p - surface.point).dot(w);
-            glTexCoord2d((tu - shift) / tile, tw / tile);
-            glVertex3d(p.x(), p.y(), p.z());
-          }
-        glEnd();
-      }
-      if (is_belt) {  // the belt's sides, a slab of thickness tile/3 below its surface
-        glDisable(GL_TEXTURE_2D);
-        glColor4f(0.25f, 0.26f, 0.28f, 1);
-        const double depth = tile / 3;
-        glBegin(GL_QUADS);
-        for (double side : {-1.0, 1.0}) {
-          const Eigen::Vector3d out = side * w;
-          glNormal3d(out.x(), out.y(), out.z());
-          for (int corner = 0; corner < 4; ++corner) {
-            const double a = (corner == 0 || corner == 3) ? -1 : 1, down = corner < 2 ? 0 : depth;
-            const Eigen::Vector3d p = center + a * half_u * u + side * half_w * w - down * n;
-            glVertex3d(p.x(), p.y(), p.z());
-          }
-        }
-        glEnd();
-        glEnable(GL_TEXTURE_2D);
-      }
+  glDisable(GL_LIGHTING);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
+  glColor4f(0.05f, 0.05f, 0.08f, 0.38f);
+  for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
+    const scene::Surface& surface = scene.surfaces[s];
+    if (surface.normal.dot(light) <= 1e-3) continue;  // lit from behind: no shadow on it
+    glStencilFunc(GL_EQUAL, static_cast<GLint>(s + 1), 0xff);
+    const Eigen::Matrix4d S = shadowMatrix(surface.normal, surface.point, light);
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      glPushMatrix();
+      multMatrix(S * shapeMatrix(frame.pose.X_WG[i], shapes[i].scale));
+      drawMesh(meshes[shapes[i].mesh]);
+      glPopMatrix();
     }
-    glDisable(GL_TEXTURE_2D);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-
-    // Planar shadows: the shapes flattened onto each surface along the key light, darkening each
-    // stencil-marked pixel once (the stencil is cleared where a shadow is drawn).
-    if (settings_.shadows) {
-      glDisable(GL_LIGHTING);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-      glDepthMask(GL_FALSE);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
-      glColor4f(0.05f, 0.05f, 0.08f, 0.38f);
-      for (std::size_t s = 0; s < scene.surfaces.size(); ++s) {
-        const scene::Surface& surface = scene.surfaces[s];
-        if (surface.normal.dot(light) <= 1e-3) continue;  // lit from behind: no shadow on it
-        glStencilFunc(GL_EQUAL, static_cast<GLint>(s + 1), 0xff);
-        const Eigen::Matrix4d S = shadowMatrix(surface.normal, surface.point, light);
-        for (std::size_t i = 0; i < shapes.size(); ++i) {
-          glPushMatrix();
-          multMatrix(S * shapeMatrix(frame.pose.X_WG[i], shapes[i].scale));
-          drawMesh(meshes[shapes[i].mesh]);
-          glPopMatrix();
-        }
-      }
-      glDepthMask(GL_TRUE);
-      glDisable(GL_BLEND);
-      glEnable(GL_LIGHTING);
-    }
-    glDisable(GL_STENCIL_TEST);
   }
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glEnable(GL_LIGHTING);
+}
 
-  // The model.
+// The posed shapes, lit.
+void Renderer::drawModel(const FrameContent& frame) {
+  const auto& shapes = geometry_.shapes();
+  const auto& meshes = geometry_.meshes();
   const GLfloat body_specular[] = {0.4f, 0.4f, 0.4f, 1};
   glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, body_specular);
   glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 40);
@@ -274,11 +300,10 @@ void Renderer::draw(const Camera& camera, const FrameContent& frame) {
     drawMesh(meshes[shapes[i].mesh]);
     glPopMatrix();
   }
+}
 
-  // Overlays, drawn over everything so that arrows inside a body stay visible: contact-force
-  // arrows (shaft and head), impulse markers (ring and star in the surface's plane).
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glDisable(GL_FOG);
+// Contact-force arrows: a cylinder shaft and a cone head from the contact point.
+void Renderer::drawArrows(const FrameContent& frame) {
   glColor4f(0.1f, 0.65f, 0.25f, 1);
   const double r = settings_.arrow_radius;
   for (const FrameContent::Arrow& arrow : frame.arrows) {
@@ -300,52 +325,55 @@ void Renderer::draw(const Camera& camera, const FrameContent& frame) {
     drawMesh(gl_->cone);
     glPopMatrix();
   }
-  if (!frame.markers.empty()) {
-    glDisable(GL_LIGHTING);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    for (const FrameContent::Marker& m : frame.markers) {
-      const double alpha = std::clamp(1 - m.age, 0.0, 1.0);
-      const Eigen::Vector3d n = m.normal.normalized();
-      const Eigen::Vector3d a = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
-      const Eigen::Vector3d b = n.cross(a);
-      const Eigen::Vector3d c = m.center + 0.002 * m.size * n;
-      // expanding ring
-      const double outer = m.size * (0.35 + 0.65 * m.age), inner = outer * 0.8;
-      glColor4f(1.0f, 0.55f, 0.05f, float(alpha));
-      glBegin(GL_TRIANGLE_STRIP);
-      for (int i = 0; i <= 48; ++i) {
-        const double t = 2 * std::numbers::pi * i / 48;
-        const Eigen::Vector3d d = std::cos(t) * a + std::sin(t) * b;
-        const Eigen::Vector3d p = c + outer * d, q = c + inner * d;
-        glVertex3d(p.x(), p.y(), p.z());
-        glVertex3d(q.x(), q.y(), q.z());
-      }
-      glEnd();
-      // star: eight spikes in the plane and one along the normal, shrinking with age
-      glColor4f(1.0f, 0.85f, 0.1f, float(alpha));
-      const double spike = m.size * (1 - 0.5 * m.age), width = 0.08 * m.size;
-      glBegin(GL_TRIANGLES);
-      for (int i = 0; i < 8; ++i) {
-        const double t = 2 * std::numbers::pi * i / 8;
-        const Eigen::Vector3d d = std::cos(t) * a + std::sin(t) * b, side = n.cross(d);
-        for (const Eigen::Vector3d& up : {Eigen::Vector3d::Zero().eval(), (0.5 * spike * n).eval()}) {
-          const Eigen::Vector3d dir = up.norm() > 0 ? (d + n).normalized() : d;
-          const Eigen::Vector3d s = (up.norm() > 0 ? dir.cross(n).normalized() : side);
-          const Eigen::Vector3d tip = c + spike * dir, l = c + width * s, rr = c - width * s;
-          glVertex3d(l.x(), l.y(), l.z());
-          glVertex3d(rr.x(), rr.y(), rr.z());
-          glVertex3d(tip.x(), tip.y(), tip.z());
-        }
-      }
-      glEnd();
-    }
-    glDisable(GL_BLEND);
-    glEnable(GL_LIGHTING);
-  }
-  glFinish();
+}
 
-  // RGBA (supersampled) -> RGB, averaging supersample × supersample blocks.
+// Impulse markers: an expanding ring and a shrinking star in the surface's plane, fading with age.
+void Renderer::drawMarkers(const FrameContent& frame) {
+  glDisable(GL_LIGHTING);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  for (const FrameContent::Marker& m : frame.markers) {
+    const double alpha = std::clamp(1 - m.age, 0.0, 1.0);
+    const Eigen::Vector3d n = m.normal.normalized();
+    const Eigen::Vector3d a = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
+    const Eigen::Vector3d b = n.cross(a);
+    const Eigen::Vector3d c = m.center + 0.002 * m.size * n;
+    // expanding ring
+    const double outer = m.size * (0.35 + 0.65 * m.age), inner = outer * 0.8;
+    glColor4f(1.0f, 0.55f, 0.05f, float(alpha));
+    glBegin(GL_TRIANGLE_STRIP);
+    for (int i = 0; i <= 48; ++i) {
+      const double t = 2 * std::numbers::pi * i / 48;
+      const Eigen::Vector3d d = std::cos(t) * a + std::sin(t) * b;
+      const Eigen::Vector3d p = c + outer * d, q = c + inner * d;
+      glVertex3d(p.x(), p.y(), p.z());
+      glVertex3d(q.x(), q.y(), q.z());
+    }
+    glEnd();
+    // star: eight spikes in the plane and one along the normal, shrinking with age
+    glColor4f(1.0f, 0.85f, 0.1f, float(alpha));
+    const double spike = m.size * (1 - 0.5 * m.age), width = 0.08 * m.size;
+    glBegin(GL_TRIANGLES);
+    for (int i = 0; i < 8; ++i) {
+      const double t = 2 * std::numbers::pi * i / 8;
+      const Eigen::Vector3d d = std::cos(t) * a + std::sin(t) * b, side = n.cross(d);
+      for (const Eigen::Vector3d& up : {Eigen::Vector3d::Zero().eval(), (0.5 * spike * n).eval()}) {
+        const Eigen::Vector3d dir = up.norm() > 0 ? (d + n).normalized() : d;
+        const Eigen::Vector3d s = (up.norm() > 0 ? dir.cross(n).normalized() : side);
+        const Eigen::Vector3d tip = c + spike * dir, l = c + width * s, rr = c - width * s;
+        glVertex3d(l.x(), l.y(), l.z());
+        glVertex3d(rr.x(), rr.y(), rr.z());
+        glVertex3d(tip.x(), tip.y(), tip.z());
+      }
+    }
+    glEnd();
+  }
+  glDisable(GL_BLEND);
+  glEnable(GL_LIGHTING);
+}
+
+// RGBA (supersampled) -> RGB, averaging supersample × supersample blocks.
+void Renderer::downsample() {
   const int k = settings_.supersample, W = settings_.width, H = settings_.height;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)

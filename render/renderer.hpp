@@ -65,6 +65,15 @@ class Renderer {
   int height() const { return settings_.height; }
 
  private:
+  // The parts of draw(), in order (renderer.cpp).
+  Eigen::Vector3d setUpFrame(const Camera& camera);
+  void drawSurfaces(const FrameContent& frame);
+  void drawShadows(const FrameContent& frame, const Eigen::Vector3d& light);
+  void drawModel(const FrameContent& frame);
+  void drawArrows(const FrameContent& frame);
+  void drawMarkers(const FrameContent& frame);
+  void downsample();
+
   struct Gl;
   const SceneGeometry& geometry_;
   RenderSettings settings_;
