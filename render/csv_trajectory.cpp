@@ -1,39 +1,23 @@
 #include "render/csv_trajectory.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <map>
+#include <span>
 #include <stdexcept>
 
 #include "contact/kinematics.hpp"
 #include "dynamics/kinematics.hpp"
+#include "scene/trajectory_csv.hpp"
 
 namespace saltus::render {
 
 namespace {
 
-std::vector<std::string> splitFields(const std::string& line) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  if (!out.empty() && !out.back().empty() && out.back().back() == '\r') out.back().pop_back();
-  return out;
-}
-
 // Column indices of one contact's loads (−1: absent).
 struct LoadColumns {
   int n = -1, t1 = -1, t2 = -1;
   bool any() const { return n >= 0 || t1 >= 0 || t2 >= 0; }
-  ContactLoad read(const std::vector<double>& row) const {
+  ContactLoad read(std::span<const double> row) const {
     ContactLoad l;
     if (n >= 0) l.normal = row[n];
     if (t1 >= 0) l.tangent[0] = row[t1];
@@ -45,20 +29,8 @@ struct LoadColumns {
 }  // namespace
 
 CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read trajectory (" + std::strerror(errno) + ")");
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty file, expected a CSV header starting with 't'");
-  const std::vector<std::string> header = splitFields(line);
-  std::map<std::string, int> column;
-  for (int i = 0; i < static_cast<int>(header.size()); ++i) column.emplace(header[i], i);
-  auto find = [&](const std::string& name) {
-    const auto it = column.find(name);
-    return it == column.end() ? -1 : it->second;
-  };
-  if (header.empty() || header[0] != "t")
-    throw std::runtime_error(path + ":1: expected the first column to be 't', got '" + (header.empty() ? "" : header[0]) + "'");
-
+  const scene::TrajectoryTable table = scene::readTrajectoryCsv(path);
+  auto find = [&](const std::string& name) { return table.column(name); };
   const dynamics::Model<double>& model = scene.model;
   const int nq = model.nq();
   std::vector<int> q_col(nq), v_col(nq);
@@ -82,31 +54,9 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
   }
 
   // Rows.
-  std::vector<std::vector<double>> rows;
-  for (int line_no = 2; std::getline(in, line); ++line_no) {
-    if (line.empty() || line == "\r") continue;
-    const std::vector<std::string> fields = splitFields(line);
-    if (fields.size() != header.size())
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": " + std::to_string(fields.size()) +
-                               " fields, the header has " + std::to_string(header.size()));
-    std::vector<double> row(fields.size());
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      const char* s = fields[i].c_str();
-      char* end = nullptr;
-      row[i] = std::strtod(s, &end);
-      if (end == s || *end != '\0')
-        throw std::runtime_error(path + ":" + std::to_string(line_no) + ": column '" + header[i] +
-                                 "': expected a number, got '" + fields[i] + "'");
-    }
-    if (!std::isfinite(row[0]))
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": t is not finite");
-    if (!rows.empty() && row[0] < rows.back()[0])
-      throw std::runtime_error(path + ":" + std::to_string(line_no) + ": t = " + fields[0] +
-                               " is before the previous row's; times must not decrease");
-    rows.push_back(std::move(row));
-  }
-  if (rows.empty()) throw std::runtime_error(path + ": no data rows after the header");
-
+  if (table.rows() == 0) throw std::runtime_error(path + ": no data rows after the header");
+  std::vector<std::span<const double>> rows;
+  for (std::size_t i = 0; i < table.rows(); ++i) rows.push_back(table.row(i));
   for (const auto& row : rows) {
     t_.push_back(row[0]);
     Eigen::VectorXd q(nq);

@@ -1,10 +1,12 @@
-// A trajectory CSV as a TrajectorySource. Reads the columns by name against the scene:
+// A trajectory CSV as a TrajectorySource. Reads the file with scene::readTrajectoryCsv (finite
+// numbers, distinct names, times not decreasing; located errors) and its columns by name against
+// the scene:
 // t, q.<coordinate> for every model coordinate (required), v.<coordinate>, and per scene contact
 // contact.<name>.{rn,rt|rt1,rt2,pn,pt|pt1,pt2} (each optional: a missing one reads as zero).
 // Other columns (u.*, gap, vn, vt, limit stops) are ignored.
 //
-// Times must not decrease. Two rows with the same t are a velocity jump (`saltus optimize`:
-// before, then after); q(t) interpolates linearly between consecutive rows of distinct times.
+// Two rows with the same t are a velocity jump (`saltus optimize`: before, then after); q(t)
+// interpolates linearly between consecutive rows of distinct times.
 //
 // Forces and impulses depend on what the file holds:
 //  - force columns (.rn present, `saltus optimize`): forces are the rn/rt columns, interpolated

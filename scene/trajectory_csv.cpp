@@ -1,6 +1,12 @@
 #include "scene/trajectory_csv.hpp"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace saltus::scene {
 
@@ -65,6 +71,79 @@ void TrajectoryCsvWriter::endRow() {
   if (next_contact_ != layout_.contacts.size())
     throw std::invalid_argument(file_.path() + ": fewer contacts in a trajectory row than in its header");
   std::fputc('\n', file_.stream());
+}
+
+int TrajectoryTable::column(const std::string& name) const {
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    if (names_[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<double> TrajectoryTable::values(const std::string& name) const {
+  const int c = column(name);
+  if (c < 0) throw std::out_of_range(path_ + ": no column '" + name + "'");
+  std::vector<double> out(rows());
+  for (std::size_t r = 0; r < out.size(); ++r) out[r] = at(r, c);
+  return out;
+}
+
+namespace {
+
+// The fields of a CSV line (no quoting: trajectory names hold no commas), without a trailing \r.
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (!out.empty() && !out.back().empty() && out.back().back() == '\r') out.back().pop_back();
+  return out;
+}
+
+}  // namespace
+
+TrajectoryTable readTrajectoryCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read trajectory (" + std::strerror(errno) + ")");
+  TrajectoryTable table;
+  table.path_ = path;
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty file, expected a CSV header starting with 't'");
+  table.names_ = splitFields(line);
+  const std::vector<std::string>& header = table.names_;
+  if (header[0] != "t")
+    throw std::runtime_error(path + ":1: expected the first column to be 't', got '" + header[0] + "'");
+  std::unordered_map<std::string, std::size_t> seen;
+  for (std::size_t i = 0; i < header.size(); ++i)
+    if (!seen.emplace(header[i], i).second)
+      throw std::runtime_error(path + ":1: column '" + header[i] + "' appears twice (columns " +
+                               std::to_string(seen[header[i]] + 1) + " and " + std::to_string(i + 1) + ")");
+
+  double t_previous = -INFINITY;
+  for (int line_no = 2; std::getline(in, line); ++line_no) {
+    if (line.empty() || line == "\r") continue;
+    const std::vector<std::string> fields = splitFields(line);
+    const std::string where = path + ":" + std::to_string(line_no) + ": ";
+    if (fields.size() != header.size())
+      throw std::runtime_error(where + std::to_string(fields.size()) + " fields, the header has " +
+                               std::to_string(header.size()));
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      const char* s = fields[i].c_str();
+      char* end = nullptr;
+      const double x = std::strtod(s, &end);
+      if (end == s || *end != '\0' || !std::isfinite(x))
+        throw std::runtime_error(where + "column '" + header[i] + "': expected a finite number, got '" + fields[i] + "'");
+      table.cells_.push_back(x);
+    }
+    const double t = table.cells_[table.cells_.size() - header.size()];
+    if (t < t_previous)
+      throw std::runtime_error(where + "t = " + fields[0] + " is before the previous row's; times must not decrease");
+    t_previous = t;
+  }
+  return table;
 }
 
 }  // namespace saltus::scene

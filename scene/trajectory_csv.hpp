@@ -9,9 +9,10 @@
 // forces [N] (the optimiser's collocation points; zero where a row has none); pn and pt impulses
 // [N s] (the time-stepper's over the step that ended at t, the optimiser's at a velocity jump).
 // Numbers are written as %.12g. The file is written through scene::AtomicFile: it appears whole
-// on commit(), or not at all.
+// on commit(), or not at all. readTrajectoryCsv reads any such file back, by column name.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,5 +69,32 @@ class TrajectoryCsvWriter {
   TrajectoryLayout layout_;
   std::size_t next_contact_ = 0;
 };
+
+// A trajectory file read back: its columns by name, every cell a finite number.
+class TrajectoryTable {
+ public:
+  const std::string& path() const { return path_; }
+  const std::vector<std::string>& names() const { return names_; }
+  std::size_t rows() const { return names_.empty() ? 0 : cells_.size() / names_.size(); }
+  // The index of a column, −1 when the file has none of that name.
+  int column(const std::string& name) const;
+  bool has(const std::string& name) const { return column(name) >= 0; }
+  // A column's values; throws std::out_of_range naming the file and the column when absent.
+  std::vector<double> values(const std::string& name) const;
+  double at(std::size_t row, int column) const { return cells_[row * names_.size() + static_cast<std::size_t>(column)]; }
+  std::span<const double> row(std::size_t i) const { return {cells_.data() + i * names_.size(), names_.size()}; }
+
+ private:
+  friend TrajectoryTable readTrajectoryCsv(const std::string& path);
+  std::string path_;
+  std::vector<std::string> names_;
+  std::vector<double> cells_;  // row-major
+};
+
+// Reads a trajectory file: a header whose first column is t and whose names are distinct, then
+// rows of as many finite numbers, times not decreasing (two rows with one t are a velocity jump);
+// blank lines are skipped. Throws std::runtime_error naming the file, the line and the column:
+// "traj.csv:7: column 'q.z': expected a finite number, got 'nan'".
+TrajectoryTable readTrajectoryCsv(const std::string& path);
 
 }  // namespace saltus::scene

@@ -91,7 +91,12 @@ TEST(CsvTrajectory, BadFilesGiveErrorsNamingFileLineAndColumn) {
   const std::string no_q = writeCsvFile("noq.csv", "t,q.x,v.x\n0,1,0\n");
   EXPECT_NE(message(no_q).find(no_q + ":1: no column 'q.z'"), std::string::npos);
   const std::string bad = writeCsvFile("bad.csv", "t,q.z\n0,1\n0.1,abc\n");
-  EXPECT_NE(message(bad).find(bad + ":3: column 'q.z': expected a number, got 'abc'"), std::string::npos);
+  EXPECT_NE(message(bad).find(bad + ":3: column 'q.z': expected a finite number, got 'abc'"), std::string::npos);
+  // A pose that is not finite would draw nothing: refused where it is.
+  const std::string nan = writeCsvFile("nan.csv", "t,q.z\n0,1\n0.1,nan\n");
+  EXPECT_NE(message(nan).find(nan + ":3: column 'q.z': expected a finite number, got 'nan'"), std::string::npos);
+  const std::string twice = writeCsvFile("twice.csv", "t,q.z,q.z\n0,1,2\n");
+  EXPECT_NE(message(twice).find(twice + ":1: column 'q.z' appears twice"), std::string::npos);
   const std::string back = writeCsvFile("back.csv", "t,q.z\n0,1\n0.2,1\n0.1,1\n");
   EXPECT_NE(message(back).find(back + ":4: t = 0.1 is before the previous row's"), std::string::npos);
   const std::string empty = writeCsvFile("empty.csv", "t,q.z\n");

@@ -23,26 +23,18 @@
 #include "saltus/build_paths.hpp"
 #include "saltus/collocation_source.hpp"
 #include "saltus/saltus.hpp"
+#include "scene/trajectory_csv.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using saltus::CollocationSource;
 
-// trajectory.csv as columns by name.
+// trajectory.csv as columns by name (scene::readTrajectoryCsv).
 std::map<std::string, std::vector<double>> readTrajectoryColumns(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream header(line);
-  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  const saltus::scene::TrajectoryTable table = saltus::scene::readTrajectoryCsv(path.string());
   std::map<std::string, std::vector<double>> columns;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string cell;
-    for (std::size_t i = 0; i < names.size() && std::getline(row, cell, ','); ++i) columns[names[i]].push_back(std::stod(cell));
-  }
+  for (const std::string& name : table.names()) columns[name] = table.values(name);
   return columns;
 }
 

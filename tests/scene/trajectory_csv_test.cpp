@@ -1,5 +1,7 @@
 // scene/trajectory_csv.hpp: the header names every column the readers look up, each row holds
-// what it was given, and an unfinished file leaves nothing behind.
+// what it was given, and an unfinished file leaves nothing behind (read with a plain split, not
+// the reader under test); readTrajectoryCsv gives back what the writer wrote, and refuses a bad
+// file naming its line and column.
 #include "scene/trajectory_csv.hpp"
 
 #include <filesystem>
@@ -118,6 +120,60 @@ TEST_F(TrajectoryCsvTest, RowsThatDoNotMatchTheHeaderAreRefusedAndNothingIsLeft)
   }  // never committed
   EXPECT_FALSE(fs::exists(path));
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(TrajectoryCsvTest, TheReaderGivesBackWhatTheWriterWrote) {
+  const fs::path path = dir_ / "trajectory.csv";
+  TrajectoryCsvWriter writer(path.string(), twoContacts(true));
+  ContactRow foot;
+  foot.gap = 0.25;
+  foot.rn = 1.0 / 7.0;
+  foot.pt = {3, -4};
+  for (int k = 0; k < 3; ++k) {
+    const double t = k < 2 ? 0.1 * k : 0.1;  // rows 1 and 2: a velocity jump at one time
+    writer.beginRow(t, Eigen::Vector2d(k, -k), Eigen::Vector2d(0.5 * k, 2), Eigen::VectorXd::Constant(1, k / 3.0));
+    writer.contact(foot);
+    writer.contact(ContactRow{});
+    writer.endRow();
+  }
+  writer.commit();
+  const TrajectoryTable table = readTrajectoryCsv(path.string());
+  EXPECT_EQ(table.path(), path.string());
+  ASSERT_EQ(table.rows(), 3u);
+  EXPECT_EQ(table.names(), readLines(path)[0]);
+  EXPECT_EQ(table.values("t"), (std::vector<double>{0, 0.1, 0.1}));
+  EXPECT_EQ(table.values("q.z"), (std::vector<double>{0, -1, -2}));
+  EXPECT_NEAR(table.values("u.x")[2], 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(table.at(1, table.column("contact.foot.rn")), 1.0 / 7.0, 1e-12);
+  EXPECT_EQ(table.row(2)[table.column("contact.foot.pt2")], -4);
+  EXPECT_FALSE(table.has("contact.foot.pt"));  // a spatial contact has pt1 and pt2
+  EXPECT_EQ(table.column("nothing"), -1);
+  EXPECT_THROW(table.values("nothing"), std::out_of_range);
+}
+
+TEST_F(TrajectoryCsvTest, TheReaderRefusesABadFileNamingTheLineAndColumn) {
+  auto refusal = [&](const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    try {
+      readTrajectoryCsv(path.string());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string d = dir_.string() + "/";
+  EXPECT_EQ(refusal("nan.csv", "t,q.z\n0,1\n0.1,nan\n"), d + "nan.csv:3: column 'q.z': expected a finite number, got 'nan'");
+  EXPECT_EQ(refusal("inf.csv", "t,q.z\n0,1e999\n"), d + "inf.csv:2: column 'q.z': expected a finite number, got '1e999'");
+  EXPECT_EQ(refusal("word.csv", "t,q.z\n0,one\n"), d + "word.csv:2: column 'q.z': expected a finite number, got 'one'");
+  EXPECT_EQ(refusal("twice.csv", "t,q.z,q.z\n0,1,1\n"), d + "twice.csv:1: column 'q.z' appears twice (columns 2 and 3)");
+  EXPECT_EQ(refusal("back.csv", "t,q.z\n0.2,1\n0.1,1\n"),
+            d + "back.csv:3: t = 0.1 is before the previous row's; times must not decrease");
+  EXPECT_EQ(refusal("short.csv", "t,q.z\n0,1\n0.1\n"), d + "short.csv:3: 1 fields, the header has 2");
+  EXPECT_EQ(refusal("first.csv", "q.z,t\n1,0\n"), d + "first.csv:1: expected the first column to be 't', got 'q.z'");
+  EXPECT_EQ(refusal("empty.csv", ""), d + "empty.csv: empty file, expected a CSV header starting with 't'");
+  EXPECT_EQ(refusal("blank_lines_and_crlf.csv", "t,q.z\r\n\n0,1\r\n"), "accepted");
+  EXPECT_NE(refusal("../nonexistent/x.csv", "").find("cannot read"), std::string::npos);
 }
 
 }  // namespace
