@@ -109,6 +109,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
 
 template class AdFunction<EquationOfMotion>;
 template class AdFunction<GapDefinition>;
+template class AdFunction<PlaneCoordinate>;
 template class AdFunction<RestitutionBalance>;
 template class AdFunction<SlipSlack>;
 template class AdFunction<Integration>;

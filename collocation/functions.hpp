@@ -149,6 +149,24 @@ struct GapDefinition {
   }
 };
 
+// The contact point's coordinate s_axis along a tangent of a plane fixed in a body
+// (contact::planeCoordinates), which the transcription bounds by the plane's extent: the
+// optimiser keeps such a point over its rectangle, where the gap of the unbounded plane is the
+// gap (see Transcription::buildContactConstraints). Inputs: q (n).
+struct PlaneCoordinate {
+  const ModelSet* models;
+  const ContactPair* contact;
+  int axis = 0;
+  int inputs() const { return models->model<double>().nv(); }
+  int outputs() const { return 1; }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    auto& data = models->data<S>();
+    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, inputs()));
+    y[0] = contact::planeCoordinates(*contact, data)[axis];
+  }
+};
+
 // Restitution at an element boundary, paper eq. (9a):
 //   a⁺ − a⁻ − ẏ[n, 0] − e ẏ[n−1, P+1] = 0   (ẏ[n, 0] after the jump, ẏ[n−1, P+1] before it)
 // Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻.
@@ -250,6 +268,7 @@ struct Effort {
 // The transcription's functors are instantiated once, in functions.cpp (see AdFunction).
 extern template class AdFunction<EquationOfMotion>;
 extern template class AdFunction<GapDefinition>;
+extern template class AdFunction<PlaneCoordinate>;
 extern template class AdFunction<RestitutionBalance>;
 extern template class AdFunction<SlipSlack>;
 extern template class AdFunction<Integration>;

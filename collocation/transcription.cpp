@@ -1,6 +1,7 @@
 #include "collocation/transcription.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -253,6 +254,21 @@ void Transcription::buildContactConstraints(int n) {
     std::vector<int> vars = range(L.points[p].q, nv_);
     for (int c = 0; c < nc; ++c) vars.push_back(L.contacts[c].y[p]);
     addBlock(gap, vars, 0, 0, "gap" + at(n, p));
+  }
+  // A plane fixed in a body is a rectangle (a deck, a cart's top): the point stays over it,
+  // |s_i| ≤ extent_i at every point of the mesh (point 0 of a later element is the previous
+  // end), so that the gap of the unbounded plane is its gap. A motion that leaves the rectangle
+  // (off the end of a deck) is outside what the transcription represents: its solve is infeasible.
+  for (int c = 0; c < nc; ++c) {
+    const ContactPair& cp = contacts_[c];
+    if (!contact::hasExtent(cp)) continue;
+    for (int axis = 0; axis < 2; ++axis) {
+      if (!std::isfinite(cp.extent[axis])) continue;
+      const auto s = std::make_shared<AdFunction<PlaneCoordinate>>(PlaneCoordinate{models_.get(), &cp, axis});
+      for (int p = n == 0 ? 0 : 1; p < npts; ++p)
+        addBlock(s, range(L.points[p].q, nv_), -cp.extent[axis], cp.extent[axis],
+                 "extent." + cp.name + "." + std::to_string(axis + 1) + at(n, p));
+    }
   }
   for (int c = 0; c < nc; ++c) {
     const ContactPair& cp = contacts_[c];

@@ -79,11 +79,21 @@ Vec3<S> pointOnB(const ContactPair& pair, const dynamics::Data<S>& data) {
   return dynamics::bodyRotation(data, pair.body_b).transpose() * (x - dynamics::bodyPosition(data, pair.body_b));
 }
 
+// The contact point's coordinates in a body's plane, s_i = t_i·(x − p) along the plane's tangents
+// in B's coordinates: what its extent bounds. For a plane fixed in a body only.
+template <class S>
+Eigen::Matrix<S, 2, 1> planeCoordinates(const ContactPair& pair, const dynamics::Data<S>& data) {
+  return pair.tangents_B.cast<S>().transpose() * (pointOnB(pair, data) - pair.plane_point_B.cast<S>());
+}
+
+// Whether the pair's plane is bounded (a plane fixed in a body, with its extent).
+inline bool hasExtent(const ContactPair& pair) { return !pair.isStop() && pair.body_b >= 0; }
+
 // Whether the contact point lies over the plane's rectangle (always, for a world plane or a
-// stop): |t_i·(x − p)| ≤ extent_i in B's coordinates. A point beyond it touches nothing.
+// stop): |s_i| ≤ extent_i (planeCoordinates). A point beyond it touches nothing.
 inline bool withinExtent(const ContactPair& pair, const dynamics::Data<double>& data) {
-  if (pair.isStop() || pair.body_b < 0) return true;
-  const Eigen::Vector2d s = pair.tangents_B.transpose() * (pointOnB(pair, data) - pair.plane_point_B);
+  if (!hasExtent(pair)) return true;
+  const Eigen::Vector2d s = planeCoordinates(pair, data);
   return std::abs(s[0]) <= pair.extent[0] && std::abs(s[1]) <= pair.extent[1];
 }
 

@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 
+#include "scene/scenario.hpp"
 #include "tests/support/problems.hpp"
 
 namespace saltus::collocation {
@@ -115,6 +116,55 @@ TEST(Transcription, FirstOrderGetsFourStepsPerElement) {
   const Transcription first_order(p, Method::FirstOrder), lg(p, Method::Impulsive);
   EXPECT_EQ(first_order.elements(), 4 * lg.elements());
   EXPECT_NEAR(first_order.variableUpper()[first_order.layout()[0].h], p.h_max / 4, 1e-15);
+}
+
+// A plane fixed in a body is a rectangle: its contact point is kept over it at every point of the
+// mesh (point 0 of a later element is the previous end), the row is the point's coordinate in
+// the plane and its bounds the extent. Block on the cart's top: s_1 = block_x − cart_x, s_2 = 0.
+TEST(Transcription, APointIsKeptOverItsBodysPlane) {
+  Problem p;
+  p.name = "block_on_cart";
+  p.scene = scene::loadScene("block_on_cart", {{"deck", 0.5}});
+  p.N = 2;
+  p.P = 2;
+  p.h_max = 0.1;
+  for (const Method method : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
+    SCOPED_TRACE(toString(method));
+    const Transcription t(p, method);
+    const int points = method == Method::FirstOrder ? 1 + t.elements() : 1 + p.N * (p.P + 1);
+    std::vector<int> rows1, rows2;
+    for (int r = 0; r < t.constraints(); ++r) {
+      const std::string& name = t.constraintNames()[r];
+      if (name.rfind("extent.block_on_deck.1[", 0) == 0) rows1.push_back(r);
+      if (name.rfind("extent.block_on_deck.2[", 0) == 0) rows2.push_back(r);
+    }
+    ASSERT_EQ(static_cast<int>(rows1.size()), points);
+    ASSERT_EQ(rows2.size(), rows1.size());
+    for (int r : rows1) {
+      EXPECT_EQ(t.constraintLower()[r], -0.5);
+      EXPECT_EQ(t.constraintUpper()[r], 0.5);
+    }
+    for (int r : rows2) {
+      EXPECT_EQ(t.constraintLower()[r], -0.2);
+      EXPECT_EQ(t.constraintUpper()[r], 0.2);
+    }
+
+    // At a point with the cart at x = 0.1 and the block at x = 0.7 everywhere: s_1 = 0.6, beyond.
+    Eigen::VectorXd x = t.nullSeed();
+    for (const ElementLayout& L : t.layout())
+      for (const ElementLayout::Point& pt : L.points) {
+        x[pt.q + 0] = 0.1;  // cart_x
+        x[pt.q + 1] = 0.7;  // block_x
+        x[pt.q + 2] = 0.3;  // block_z
+      }
+    Nlp nlp(t, Stage::Task, t.nullSeed());
+    const Eigen::VectorXd g = nlp.constraints(x);
+    for (int r : rows1) EXPECT_NEAR(g[r], 0.6, 1e-12) << t.constraintNames()[r];
+    for (int r : rows2) EXPECT_NEAR(g[r], 0.0, 1e-12) << t.constraintNames()[r];
+  }
+  // A world plane has no extent rows.
+  const Transcription drop(testing::pointMassDrop(0.0), Method::Impulsive);
+  for (const std::string& name : drop.constraintNames()) EXPECT_NE(name.rfind("extent.", 0), 0u) << name;
 }
 
 }  // namespace

@@ -234,6 +234,37 @@ TEST(Solver, BlockOnACartSlidesWithTheAnalyticAccelerationsInEveryMethod) {
   }
 }
 
+// Past t = 0.621 s the block of block_on_cart slides off the deck's rear end (models/scenes/
+// README.md). The optimiser keeps a point over its plane's rectangle, so it cannot claim contact
+// beyond the end: over 0.8 s, with no input to prevent it, the solve is infeasible rather than a
+// block carried at deck height past the deck.
+TEST(Solver, ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt) {
+  Problem p;
+  p.name = "block_on_cart";
+  p.scene = scene::loadScene("block_on_cart");
+  p.N = 8;
+  p.P = 2;
+  p.h_max = 0.1;
+  p.total_time_kind = TotalTime::Equal;
+  p.total_time = 0.8;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  const SolveReport report = solve(t, seeding.seed, SolveOptions{});
+  EXPECT_FALSE(report.feasible);
+  // The same motion on a deck 10 m long is feasible: the extent is what stops the first solve.
+  p.scene = scene::loadScene("block_on_cart", {{"deck", 10}});
+  const Transcription long_deck(p, Method::Impulsive);
+  const SolveReport on_long_deck = solve(long_deck, makeSeeding(long_deck).seed, SolveOptions{});
+  EXPECT_TRUE(on_long_deck.feasible) << on_long_deck.stages.back().status;
+  p.scene = scene::loadScene("block_on_cart");
+  // Over 0.4 s it stays on (0.21 m of the 0.5 m behind the centre): feasible, and over the deck.
+  p.total_time = 0.4;
+  const Transcription on(p, Method::Impulsive);
+  const SolveReport stays = solve(on, makeSeeding(on).seed, SolveOptions{});
+  ASSERT_TRUE(stays.feasible) << stays.stages.back().status;
+  for (const Sample& r : trajectory(on, stays.x)) EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
+}
+
 TEST(Solver, GaussCollocationConvergenceOrder) {
   const dynamics::Model<double> model = testing::pendulumModel({1.0}, {0.5});
   const double T = 0.6, q0 = 1.0;
