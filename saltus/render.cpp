@@ -1,5 +1,5 @@
 // saltus::openSolution, openTrajectoryCsv and renderTrajectory (saltus/saltus.hpp): a trajectory with its
-// scene, drawn off-screen into PNG frames and/or an MP4.
+// scene, drawn off-screen into PNG frames and/or an MP4, or frame by frame in memory.
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +82,25 @@ RenderReport renderTrajectory(const RenderInput& input, const render::AnimationO
   report.frames = render::renderAnimation(animation, video_path, frames_dir, progress);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
+}
+
+FrameRenderer::FrameRenderer(RenderInput input, const render::AnimationOptions& options, std::ostream& warnings)
+    : input_(std::move(input)),
+      animation_(std::make_unique<render::Animation>(input_.scene, *input_.trajectory, options, warnings)),
+      renderer_(std::make_unique<render::Renderer>(animation_->geometry(), animation_->settings())) {}
+
+FrameRenderer::~FrameRenderer() = default;
+
+int FrameRenderer::frames() const { return animation_->frames(); }
+double FrameRenderer::time(int frame) const { return animation_->time(frame); }
+int FrameRenderer::width() const { return renderer_->width(); }
+int FrameRenderer::height() const { return renderer_->height(); }
+
+const std::vector<std::uint8_t>& FrameRenderer::draw(int frame) {
+  if (frame < 0 || frame >= frames())
+    throw std::out_of_range("frame " + std::to_string(frame) + ": expected 0 … " + std::to_string(frames() - 1));
+  renderer_->draw(animation_->camera(frame), animation_->content(frame));
+  return renderer_->rgb();
 }
 
 }  // namespace saltus

@@ -15,6 +15,7 @@
 // so, with Ipopt's status per stage), not an exception.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -32,6 +33,7 @@
 #include "collocation/transcription.hpp"
 #include "dynamics/model.hpp"
 #include "render/animation.hpp"
+#include "render/renderer.hpp"
 #include "render/trajectory_source.hpp"
 #include "scene/scenario.hpp"
 #include "scene/trajectory_csv.hpp"
@@ -196,6 +198,30 @@ struct RenderReport {
 RenderReport renderTrajectory(const RenderInput& input, const render::AnimationOptions& options, const std::string& video_path,
                     const std::string& frames_dir, std::ostream& warnings,
                     const std::function<void(int, int)>& progress = {});
+
+// Frames drawn in memory, one at a time: for a user who composes figures or passes frames on
+// (the Python module's NumPy images). Holds an off-screen OpenGL context (OSMesa); not copyable.
+class FrameRenderer {
+ public:
+  // Throws std::invalid_argument on bad options, std::runtime_error when OSMesa cannot start.
+  FrameRenderer(RenderInput input, const render::AnimationOptions& options, std::ostream& warnings);
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  int frames() const;
+  double time(int frame) const;  // trajectory time of a frame [s]
+  int width() const;
+  int height() const;
+  // Draws a frame (0 ≤ frame < frames(), else std::out_of_range); returns its pixels, RGB, 8 bits
+  // per channel, top row first (height × width × 3), valid until the next draw.
+  const std::vector<std::uint8_t>& draw(int frame);
+
+ private:
+  RenderInput input_;
+  std::unique_ptr<render::Animation> animation_;
+  std::unique_ptr<render::Renderer> renderer_;
+};
 
 // ---------------------------------------------------------------------------------------------
 // Charts (scripts/charts.py through python3)

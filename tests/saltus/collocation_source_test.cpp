@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "render/csv_trajectory.hpp"
+#include "render/image_io.hpp"
 #include "saltus/build_paths.hpp"
 #include "saltus/collocation_source.hpp"
 #include "saltus/saltus.hpp"
@@ -164,6 +165,20 @@ TEST_F(CollocationSourceTest, RenderOfASolutionFolderUsesIt) {
   EXPECT_TRUE(fs::exists(frames / name)) << warnings.str();
   std::snprintf(name, sizeof name, "frame_%05d.png", expected);
   EXPECT_FALSE(fs::exists(frames / name));
+
+  // Frame by frame in memory: the same pixels as the files.
+  saltus::FrameRenderer frame_renderer(input, options, warnings);
+  ASSERT_EQ(frame_renderer.frames(), expected);
+  EXPECT_DOUBLE_EQ(frame_renderer.time(0), 0.0);
+  for (int k : {0, expected - 1}) {
+    std::snprintf(name, sizeof name, "frame_%05d.png", k);
+    int width = 0, height = 0;
+    const std::vector<std::uint8_t> png = saltus::render::readPng((frames / name).string(), &width, &height);
+    ASSERT_EQ(width, frame_renderer.width());
+    ASSERT_EQ(height, frame_renderer.height());
+    EXPECT_EQ(frame_renderer.draw(k), png) << name;
+  }
+  EXPECT_THROW(frame_renderer.draw(expected), std::out_of_range);
 }
 
 }  // namespace
