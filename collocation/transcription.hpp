@@ -85,8 +85,10 @@ std::string methodCannotTake(const Problem& problem, Method method);
 
 class Transcription {
  public:
-  // Throws std::invalid_argument with methodCannotTake's reason, or for a bad mesh.
+  // Throws std::invalid_argument with methodCannotTake's reason, or for a bad mesh. Refers to
+  // `problem`, which must outlive it (a temporary is refused at compile time).
   Transcription(const Problem& problem, Method method);
+  Transcription(Problem&&, Method) = delete;
 
   const Problem& problem() const { return problem_; }
   Method method() const { return method_; }

@@ -3,21 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "dynamics/urdf.hpp"
+#include "saltus/format.hpp"
 #include "saltus/saltus.hpp"
 
 namespace saltus {
 
 namespace {
-
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
 
 // A trajectory file's contact values from a stepper's report (its tangential pair along the
 // surface's tangents; the writer drops the second for a planar contact).
@@ -40,7 +34,7 @@ dynamics::Model<double> loadModel(const std::string& urdf_path, dynamics::BaseTy
 long stepCount(double duration, double dt) {
   const double r = duration / dt;
   if (!(r < 9007199254740992.0))  // 2^53; also NaN
-    throw std::invalid_argument("dt: " + number(dt) + " s over " + number(duration) +
+    throw std::invalid_argument("dt: " + formatNumber(dt) + " s over " + formatNumber(duration) +
                                 " s is too many steps (expected fewer than 2^53)");
   const double nearest = std::round(r);
   const long n = std::abs(r - nearest) <= 1e-9 * std::max(1.0, r) ? static_cast<long>(nearest)
@@ -50,13 +44,13 @@ long stepCount(double duration, double dt) {
 
 void checkSimulateOptions(const SimulateOptions& options) {
   if (!(options.dt > 0) || !std::isfinite(options.dt))
-    throw std::invalid_argument("dt: expected a positive time step [s], got " + number(options.dt));
+    throw std::invalid_argument("dt: expected a positive time step [s], got " + formatNumber(options.dt));
   if (!(options.duration >= 0) || !std::isfinite(options.duration))
     throw std::invalid_argument("duration: expected a positive time [s] (0: the scene's), got " +
-                                number(options.duration));
+                                formatNumber(options.duration));
   if (!(options.theta >= 0.5 && options.theta <= 1))
     throw std::invalid_argument("theta: expected a number in [0.5, 1] (0.5: Moreau midpoint, 1: Stewart-Trinkle), got " +
-                                number(options.theta));
+                                formatNumber(options.theta));
 }
 
 bool isDriven(const scene::Scene& scene) {

@@ -189,7 +189,8 @@ TEST(AdFunction, SuppliedPairsAndSmallChunks) {
 // 4), the slip and restitution functions over q too, integration without sweeps. Their Hessians
 // against the all-nonlinear chunk-of-8 route are checked in DeclaredLinearInputsConveyor.
 TEST(AdFunction, ConveyorSweeps) {
-  const Transcription t(conveyorWithInput(), Method::Impulsive);
+  const Problem problem = conveyorWithInput();
+  const Transcription t(problem, Method::Impulsive);
   std::set<std::string> seen;
   for (const Block& b : t.blocks()) {
     if (const auto* eom = dynamic_cast<const AdFunction<EquationOfMotion>*>(b.f.get())) {

@@ -103,7 +103,8 @@ TEST(NlpDerivatives, BallOnPaddleFirstOrder) {
 
 TEST(Transcription, ContinuousRefusesRestitution) {
   try {
-    Transcription t(testing::pointMassDrop(0.5), Method::Continuous);
+    const Problem bouncing = testing::pointMassDrop(0.5);
+    Transcription t(bouncing, Method::Continuous);
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("restitution"), std::string::npos) << e.what();
@@ -163,7 +164,8 @@ TEST(Transcription, APointIsKeptOverItsBodysPlane) {
     for (int r : rows2) EXPECT_NEAR(g[r], 0.0, 1e-12) << t.constraintNames()[r];
   }
   // A world plane has no extent rows.
-  const Transcription drop(testing::pointMassDrop(0.0), Method::Impulsive);
+  const Problem drop_problem = testing::pointMassDrop(0.0);
+  const Transcription drop(drop_problem, Method::Impulsive);
   for (const std::string& name : drop.constraintNames()) EXPECT_NE(name.rfind("extent.", 0), 0u) << name;
 }
 

@@ -202,19 +202,25 @@ TEST(Solver, PointMassThrowLandsSlidesAndStops) {
 // block_on_cart, sliding: F = 30 N > μ g (M + m)), no task but the dynamics, solved by each
 // method from its simulation seed. The motion is the analytic one: the block at μ g, the cart at
 // (F − μ m g)/M, the block on the deck throughout (0.4 s, before it reaches the deck's end).
+// The built-in scene block_on_cart (a block on a cart pulled by 30 N, μ = 0.4) over a fixed horizon.
+Problem blockOnCart(double total_time, int P, double h_max, const std::map<std::string, double>& parameters = {}) {
+  Problem p;
+  p.name = "block_on_cart";
+  p.scene = scene::loadScene("block_on_cart", parameters);
+  p.N = 8;
+  p.P = P;
+  p.h_max = h_max;
+  p.total_time_kind = TotalTime::Equal;
+  p.total_time = total_time;
+  return p;
+}
+
 TEST(Solver, BlockOnACartSlidesWithTheAnalyticAccelerationsInEveryMethod) {
   const double M = 4, m = 1, mu = 0.4, F = 30;
   const double a_cart = (F - mu * m * g) / M, a_block = mu * g;
   for (const Method method : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
     SCOPED_TRACE(toString(method));
-    Problem p;
-    p.name = "block_on_cart";
-    p.scene = scene::loadScene("block_on_cart");
-    p.N = 8;
-    p.P = 3;
-    p.h_max = 0.05;
-    p.total_time_kind = TotalTime::Equal;
-    p.total_time = 0.4;
+    const Problem p = blockOnCart(0.4, 3, 0.05);
     const Transcription t(p, method);
     const Seeding seeding = makeSeeding(t);
     SolveOptions o;
@@ -239,27 +245,18 @@ TEST(Solver, BlockOnACartSlidesWithTheAnalyticAccelerationsInEveryMethod) {
 // beyond the end: over 0.8 s, with no input to prevent it, the solve is infeasible rather than a
 // block carried at deck height past the deck.
 TEST(Solver, ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt) {
-  Problem p;
-  p.name = "block_on_cart";
-  p.scene = scene::loadScene("block_on_cart");
-  p.N = 8;
-  p.P = 2;
-  p.h_max = 0.1;
-  p.total_time_kind = TotalTime::Equal;
-  p.total_time = 0.8;
-  const Transcription t(p, Method::Impulsive);
-  const Seeding seeding = makeSeeding(t);
-  const SolveReport report = solve(t, seeding.seed, SolveOptions{});
+  const Problem off = blockOnCart(0.8, 2, 0.1);
+  const Transcription t(off, Method::Impulsive);
+  const SolveReport report = solve(t, makeSeeding(t).seed, SolveOptions{});
   EXPECT_FALSE(report.feasible);
   // The same motion on a deck 10 m long is feasible: the extent is what stops the first solve.
-  p.scene = scene::loadScene("block_on_cart", {{"deck", 10}});
-  const Transcription long_deck(p, Method::Impulsive);
+  const Problem long_deck_problem = blockOnCart(0.8, 2, 0.1, {{"deck", 10}});
+  const Transcription long_deck(long_deck_problem, Method::Impulsive);
   const SolveReport on_long_deck = solve(long_deck, makeSeeding(long_deck).seed, SolveOptions{});
   EXPECT_TRUE(on_long_deck.feasible) << on_long_deck.stages.back().status;
-  p.scene = scene::loadScene("block_on_cart");
   // Over 0.4 s it stays on (0.21 m of the 0.5 m behind the centre): feasible, and over the deck.
-  p.total_time = 0.4;
-  const Transcription on(p, Method::Impulsive);
+  const Problem stays_on = blockOnCart(0.4, 2, 0.1);
+  const Transcription on(stays_on, Method::Impulsive);
   const SolveReport stays = solve(on, makeSeeding(on).seed, SolveOptions{});
   ASSERT_TRUE(stays.feasible) << stays.stages.back().status;
   for (const Sample& r : trajectory(on, stays.x)) EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
