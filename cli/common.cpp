@@ -32,6 +32,14 @@ dynamics::BaseType parseBaseOption(const std::string& option, const std::string&
   throw UsageError(option + ": expected fixed, planar or free, got '" + value + "'");
 }
 
+UsageError optionError(const std::exception& e) {
+  std::string message = e.what();
+  const std::size_t colon = message.find(':');
+  for (std::size_t i = 0; i < colon && colon != std::string::npos; ++i)
+    if (message[i] == '_') message[i] = '-';
+  return UsageError("--" + message);
+}
+
 Eigen::VectorXd parseCoordinateVector(const std::string& option, const std::string& text,
                                       const std::vector<std::string>& coordinates) {
   const std::size_t n = coordinates.size();

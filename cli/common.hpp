@@ -25,6 +25,9 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The library API's message "field_name: …" as "--field-name: …" (its option on the command line).
+UsageError optionError(const std::exception& e);
+
 // A subcommand: its CLI11 parser and what runs when it was given. run() returns the exit code
 // and throws UsageError, dynamics::ModelError or other std::exceptions on failure.
 struct Command {

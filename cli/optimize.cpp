@@ -50,55 +50,41 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
     if (eq == std::string::npos || eq == 0) throw UsageError("--ipopt '" + a + "': expected name=value, e.g. --ipopt max_iter=500");
     ipopt[a.substr(0, eq)] = a.substr(eq + 1);
   }
-  Problem problem = loadProblem(opt.problem, parseSetOptions(opt.set));
-  if (opt.P && (*opt.P < 1 || *opt.P > 9)) throw UsageError("--P: expected an order from 1 to 9, got " + std::to_string(*opt.P));
-  if (opt.N && *opt.N < 1) throw UsageError("--N: expected at least 1 element, got " + std::to_string(*opt.N));
-  if (opt.P || opt.N) {
-    try {
-      remesh(problem, opt.N.value_or(problem.N), opt.P.value_or(problem.P));
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--N/--P: ") + e.what());
-    }
-  }
-  if (opt.seed) problem.random_seed = *opt.seed;
+  const Problem problem = loadProblem(opt.problem, parseSetOptions(opt.set));
+  OptimizeOptions options;
+  options.method = method;
+  options.N = opt.N;
+  options.P = opt.P;
+  options.random_seed = opt.seed;
   if (!opt.seed_kind.empty()) {
     try {
-      problem.seed_kind = parseSeedKind(opt.seed_kind);
+      options.seed_kind = parseSeedKind(opt.seed_kind);
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--seed-kind: ") + e.what());
     }
-    if (problem.seed_kind == SeedKind::Solution) throw UsageError("--seed-kind: a solution seed is given by --seed-from DIR");
-    if (!opt.seed_from.empty()) throw UsageError("--seed-kind: not with --seed-from (which starts from a solution)");
   }
-  if (!opt.seed_from.empty()) {
-    problem.seed_kind = SeedKind::Solution;
-    problem.seed_solution = opt.seed_from;
-  }
-  if (opt.seed_scale) {
-    if (!(*opt.seed_scale >= 0)) throw UsageError("--seed-scale: expected a non-negative number");
-    problem.seed_scale = *opt.seed_scale;
-  }
-  if (opt.restarts) {
-    if (*opt.restarts < 0) throw UsageError("--restarts: expected a non-negative integer");
-    problem.restarts = *opt.restarts;
-  }
-  if (fs::exists(opt.out) && !fs::is_directory(opt.out))
-    throw UsageError("--out " + opt.out + ": exists and is not a directory");
+  options.seed_from = opt.seed_from;
+  options.seed_scale = opt.seed_scale;
+  options.restarts = opt.restarts;
   if (!opt.hessian.empty()) {
     if (opt.hessian != "exact" && opt.hessian != "limited-memory")
       throw UsageError("--hessian: expected exact or limited-memory, got '" + opt.hessian + "'");
-    problem.exact_hessian = opt.hessian == "exact";
+    options.exact_hessian = opt.hessian == "exact";
   }
-  problem.derivative_check = problem.derivative_check || opt.derivative_check;
-
-  OptimizeOptions options;
-  options.method = method;
+  options.derivative_check = opt.derivative_check;
   options.solve.print_level = opt.print_level;
   options.solve.ipopt = ipopt;
   if (opt.tighten_within) {
     if (!(*opt.tighten_within >= 0) || !std::isfinite(*opt.tighten_within))
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
     options.solve.tighten_within = *opt.tighten_within;
+  }
+  if (fs::exists(opt.out) && !fs::is_directory(opt.out))
+    throw UsageError("--out " + opt.out + ": exists and is not a directory");
+  try {
+    adjustedProblem(problem, options);  // the options' own errors are usage errors
+  } catch (const std::invalid_argument& e) {
+    throw optionError(e);
   }
   const OptimizeResult o = saltus::optimize(problem, options);  // refuses what the method cannot represent
   saveSolution(opt.out, o);

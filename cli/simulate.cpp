@@ -39,13 +39,13 @@ int simulate(const SimulateCliOptions& opt) {
   try {
     checkSimulateOptions(options);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--") + e.what());
+    throw optionError(e);
   }
   const scene::Scene scene = loadScene(opt.scene, parseSetOptions(opt.set));
   try {
     stepCount(options.duration > 0 ? options.duration : scene.duration, options.dt);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--") + e.what());
+    throw optionError(e);
   }
 
   scene::TrajectoryCsvWriter writer(opt.out, scene::trajectoryLayout(scene));

@@ -5,6 +5,8 @@
 // and the Hessian of the Lagrangian are assembled from the blocks' dense local derivatives.
 #pragma once
 
+#include <functional>
+
 #include <IpTNLP.hpp>
 
 #include <string>
@@ -60,6 +62,16 @@ class Nlp : public Ipopt::TNLP {
                          const Ipopt::Number* g, const Ipopt::Number* lambda, Ipopt::Number obj_value,
                          const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
 
+  // Asked at every iteration (intermediate_callback); true stops Ipopt (User_Requested_Stop).
+  void setInterruption(std::function<bool()> interrupted) { interrupted_ = std::move(interrupted); }
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Ipopt::Index iter, Ipopt::Number obj_value,
+                             Ipopt::Number inf_pr, Ipopt::Number inf_du, Ipopt::Number mu, Ipopt::Number d_norm,
+                             Ipopt::Number regularization_size, Ipopt::Number alpha_du, Ipopt::Number alpha_pr,
+                             Ipopt::Index ls_trials, const Ipopt::IpoptData* ip_data,
+                             Ipopt::IpoptCalculatedQuantities* ip_cq) override {
+    return !(interrupted_ && interrupted_());
+  }
+
   // The same evaluations for tests (dense, no Ipopt).
   double cost(const Eigen::VectorXd& x);
   Eigen::VectorXd constraints(const Eigen::VectorXd& x);
@@ -72,6 +84,7 @@ class Nlp : public Ipopt::TNLP {
 
   const Transcription& t_;
   Stage stage_;
+  std::function<bool()> interrupted_;
   Eigen::VectorXd x0_, x_lower_, x_upper_;
   std::vector<int> jac_row_, jac_col_, jac_pos_, jac_first_;     // per block: first position in jac_pos_
   std::vector<int> hess_row_, hess_col_, hess_pos_, hess_first_;  // per block: first in hess_pos_ (−1: none)

@@ -119,6 +119,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
 
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
+  nlp->setInterruption(options.interrupted);
   const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
@@ -127,6 +128,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   r.status_code = status;
   r.status = ipoptStatusName(status);
   r.succeeded = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
+  if (status == Ipopt::User_Requested_Stop) report.interrupted = true;
   if (IsValid(app->Statistics())) r.iterations = app->Statistics()->IterationCount();
   r.evaluation_seconds = nlp->evaluationSeconds();
   x_out = nlp->solution().size() == t.variables() ? nlp->solution() : x0;
@@ -155,7 +157,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
-  const bool task = has_task || !t.problem().hints.empty();
+  const bool task = (has_task || !t.problem().hints.empty()) && !report.interrupted;
   bool tightened = false;
   if (task && first.succeeded) {
     const Eigen::VectorXd x1 = x;
@@ -172,7 +174,8 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
       report.note = "the task stage ended " + second.status + "; kept the feasibility stage's solution";
     }
   }
-  if (!task && first.succeeded && !first_feasible && first.largest_product <= options.tighten_within * tolerance) {
+  if (!task && !report.interrupted && first.succeeded && !first_feasible &&
+      first.largest_product <= options.tighten_within * tolerance) {
     // A local minimum of the penalty with products above the tolerance (often just above: on a
     // resting mass, a staircase of small impulses at later boundaries). The bounded products of
     // the task stage, from this point, pull them under it or fail; a failure keeps this point.
@@ -198,7 +201,8 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   }
   if (!report.note.empty()) all = first.succeeded;
   if (tightened) all = true;  // the feasibility stage ended succeeded, the tightening feasible
-  report.feasible = all && (!task || report.stages.size() == 2) && report.largest_product <= tolerance;
+  report.feasible = all && !report.interrupted && (!task || report.stages.size() == 2) &&
+                    report.largest_product <= tolerance;
   report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
 }
@@ -219,7 +223,7 @@ SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveO
     AttemptReport a = total.attempts.front();
     a.attempt = k;
     attempts.push_back(a);
-    if (total.feasible) break;
+    if (total.feasible || total.interrupted) break;
   }
   total.attempts = attempts;
   total.wall_seconds = wall;

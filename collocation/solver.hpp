@@ -48,6 +48,7 @@ struct SolveReport {
   std::string note;
   Eigen::VectorXd x;      // the last stage's solution
   bool feasible = false;  // every stage succeeded and every product ≤ tolerance
+  bool interrupted = false;  // SolveOptions::interrupted stopped it (not feasible)
   double largest_product = 0;
   std::string largest_product_at;  // the product's constraint name (e.g. "impact.ball[10,0]")
   double objective = 0;   // the last stage's objective
@@ -72,6 +73,9 @@ struct SolveOptions {
   // simulation seeds of bench/sweeps/seeds.yaml it turned 58 of 107 failed impulsive solves
   // into successes, 43 of them with products within 10 times the tolerance (README).
   double tighten_within = std::numeric_limits<double>::infinity();
+  // Called at every Ipopt iteration (its intermediate callback); true stops the solve there
+  // (Ipopt's User_Requested_Stop) with no further stage or attempt: a user's Ctrl-C.
+  std::function<bool()> interrupted;
 };
 
 // The starting point of attempt k = 0, 1, …, and whether it is close to a solution (an earlier

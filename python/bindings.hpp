@@ -12,5 +12,6 @@ namespace py = pybind11;
 void bindErrors(py::module_& m);    // errors.cpp: C++ exceptions as Python ones
 void bindDynamics(py::module_& m);  // dynamics.cpp: Model and the kernels
 void bindScenes(py::module_& m);    // simulate.cpp: scenes, the stepper, simulate
+void bindOptimize(py::module_& m);  // optimize.cpp: problems, optimize, solutions
 
 }  // namespace saltus::python

@@ -5,4 +5,5 @@ PYBIND11_MODULE(_saltus, m) {
   saltus::python::bindErrors(m);
   saltus::python::bindDynamics(m);
   saltus::python::bindScenes(m);
+  saltus::python::bindOptimize(m);
 }

@@ -13,12 +13,53 @@ namespace saltus {
 namespace fs = std::filesystem;
 using namespace saltus::collocation;
 
+Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
+  if (options.P && (*options.P < 1 || *options.P > 9))
+    throw std::invalid_argument("P: expected an order from 1 to 9, got " + std::to_string(*options.P));
+  if (options.N && *options.N < 1)
+    throw std::invalid_argument("N: expected at least 1 element, got " + std::to_string(*options.N));
+  if (options.P || options.N) {
+    try {
+      remesh(problem, options.N.value_or(problem.N), options.P.value_or(problem.P));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("N: ") + e.what());
+    }
+  }
+  if (options.random_seed) problem.random_seed = *options.random_seed;
+  if (options.seed_kind) {
+    if (*options.seed_kind == SeedKind::Solution)
+      throw std::invalid_argument("seed_kind: a solution seed is given by seed_from (its folder)");
+    if (!options.seed_from.empty())
+      throw std::invalid_argument("seed_kind: not with seed_from (which starts from a solution)");
+    problem.seed_kind = *options.seed_kind;
+  }
+  if (!options.seed_from.empty()) {
+    problem.seed_kind = SeedKind::Solution;
+    problem.seed_solution = options.seed_from;
+  }
+  if (options.seed_scale) {
+    if (!(*options.seed_scale >= 0) || !std::isfinite(*options.seed_scale))
+      throw std::invalid_argument("seed_scale: expected a non-negative number");
+    problem.seed_scale = *options.seed_scale;
+  }
+  if (options.restarts) {
+    if (*options.restarts < 0) throw std::invalid_argument("restarts: expected a non-negative integer");
+    problem.restarts = *options.restarts;
+  }
+  if (options.exact_hessian) problem.exact_hessian = *options.exact_hessian;
+  problem.derivative_check = problem.derivative_check || options.derivative_check;
+  if (!(options.solve.tighten_within >= 0))
+    throw std::invalid_argument("tighten_within: expected a non-negative ratio (0: never tighten)");
+  return problem;
+}
+
 OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
   OptimizeResult o;
-  o.problem_ptr = std::make_shared<const Problem>(problem);
+  o.problem_ptr = std::make_shared<const Problem>(adjustedProblem(problem, options));
   const auto transcription = std::make_shared<const Transcription>(*o.problem_ptr, options.method);
   o.transcription = transcription;
   const Transcription& t = *transcription;
+  const Problem& adjusted = *o.problem_ptr;
   const Seeding seeding = makeSeeding(t);
   o.simulation_seed = seeding.simulation;
   o.seed_fallback = seeding.fallback;
@@ -28,7 +69,7 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
   o.report = collocation::solve(t, seeding.seed, solve);
   o.samples = trajectory(t, o.report.x);
   o.mean_local_error = meanLocalError(t, o.report.x);
-  if (!o.report.feasible && !problem.hints.empty()) {
+  if (!o.report.feasible && !o.report.interrupted && !adjusted.hints.empty()) {
     try {
       o.hints = checkHints(t);
     } catch (const std::runtime_error& e) {  // a diagnostic: the solve's result stands regardless

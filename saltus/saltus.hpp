@@ -19,6 +19,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -126,11 +127,25 @@ void writeSample(scene::TrajectoryCsvWriter& writer, const SimulationSample& sam
 // ---------------------------------------------------------------------------------------------
 // Trajectory optimisation through contact (collocation/)
 
+// A solve's method and its changes to the problem (each unset one leaves the problem's own).
 struct OptimizeOptions {
   collocation::Method method = collocation::Method::Impulsive;
-  // Ipopt's print level and options, tightening; the number of restarts comes from the problem.
+  std::optional<int> N, P;                      // elements; collocation points per element (1 … 9)
+  std::optional<unsigned> random_seed;          // of the initial guess's perturbation
+  std::optional<collocation::SeedKind> seed_kind;  // null, perturbed, simulation, perturbed-simulation
+  std::string seed_from;                        // start from an earlier solution (its folder)
+  std::optional<double> seed_scale;             // size of the random perturbation (≥ 0)
+  std::optional<int> restarts;                  // further attempts after an infeasible end (≥ 0)
+  std::optional<bool> exact_hessian;            // false: limited-memory
+  bool derivative_check = false;                // Ipopt's second-order derivative checker
+  // Ipopt's print level and options, tightening, and an interruption check (restarts: above).
   collocation::SolveOptions solve;
 };
+
+// The problem with the options' changes: remeshed to N, P; the seed's kind, scale and random
+// seed; restarts; the Hessian. Throws std::invalid_argument naming the field ("P: expected an
+// order from 1 to 9, got 12").
+collocation::Problem adjustedProblem(collocation::Problem problem, const OptimizeOptions& options);
 
 struct OptimizeResult {
   std::shared_ptr<const collocation::Problem> problem_ptr;           // the problem as solved
@@ -149,8 +164,9 @@ struct OptimizeResult {
   bool feasible() const { return report.feasible; }
 };
 
-// Transcribes the problem with the method (throws std::invalid_argument for what the method
-// cannot represent), seeds it (problem.seed_kind, …) and solves it in two stages with Ipopt.
+// Adjusts the problem (adjustedProblem), transcribes it with the method (throws
+// std::invalid_argument for what the method cannot represent), seeds it and solves it in two
+// stages with Ipopt. A solve stopped by options.solve.interrupted is a result with interrupted set.
 OptimizeResult optimize(const collocation::Problem& problem, const OptimizeOptions& options);
 
 // summary.json: the problem, method, mesh, seed, Ipopt's status per stage and attempt, the

@@ -1,0 +1,193 @@
+// Problems and saltus.optimize: the library API's solve, the GIL released while Ipopt runs and
+// Ctrl-C stopping it cleanly (Ipopt's intermediate callback) as a KeyboardInterrupt; the solution's
+// samples as NumPy arrays, its polynomials at any time, its summary and its files.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include "collocation/interpolation.hpp"
+#include "python/bindings.hpp"
+#include "saltus/saltus.hpp"
+
+namespace saltus::python {
+
+namespace {
+
+using Parameters = std::map<std::string, double>;
+using ProblemPtr = std::shared_ptr<collocation::Problem>;
+
+// A solve with its collocation polynomials (which refer to the result's transcription).
+struct SolutionHandle {
+  explicit SolutionHandle(OptimizeResult r) : result(std::move(r)), trajectory(*result.transcription, result.report.x) {}
+  OptimizeResult result;
+  collocation::CollocationTrajectory trajectory;
+};
+
+ProblemPtr problemOf(const py::object& problem, const Parameters& set) {
+  if (py::isinstance<py::str>(problem))
+    return std::make_shared<collocation::Problem>(loadProblem(problem.cast<std::string>(), set));
+  if (!set.empty()) throw std::invalid_argument("set: give the overrides to load_problem, not with a Problem object");
+  return problem.cast<ProblemPtr>();
+}
+
+// Samples × columns of one quantity of the samples.
+template <class F>
+Eigen::MatrixXd sampleMatrix(const std::vector<collocation::Sample>& samples, int columns, F value) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(samples.size()), columns);
+  for (std::size_t k = 0; k < samples.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = value(samples[k]).transpose();
+  return out;
+}
+
+}  // namespace
+
+void bindOptimize(py::module_& m) {
+  static py::exception<std::runtime_error> solve_error(m, "SolveError", PyExc_RuntimeError);
+  solve_error.doc() = "A solve that ended infeasible when a feasible one was required; args: (message, status).";
+
+  py::class_<collocation::Problem, ProblemPtr>(m, "Problem", "A trajectory optimisation problem: scene, mesh, task.")
+      .def_readonly("name", &collocation::Problem::name)
+      .def_readonly("description", &collocation::Problem::description)
+      .def_readonly("N", &collocation::Problem::N, "Finite elements.")
+      .def_readonly("P", &collocation::Problem::P, "Collocation points per element.")
+      .def_readonly("h_max", &collocation::Problem::h_max, "Longest element [s].")
+      .def_property_readonly("parameters", [](const collocation::Problem& p) { return p.parameters; })
+      .def_property_readonly("scene", [](const collocation::Problem& p) { return std::make_shared<scene::Scene>(p.scene); })
+      .def("__repr__", [](const collocation::Problem& p) { return "<saltus.Problem '" + p.name + "'>"; });
+
+  m.def(
+      "load_problem",
+      [](const std::string& name, const Parameters& set) { return std::make_shared<collocation::Problem>(loadProblem(name, set)); },
+      py::arg("name"), py::arg("set") = Parameters{},
+      "A built-in problem (point_mass_drop, point_mass_throw, pendulum_conveyor) or a problem file, with "
+      "parameter overrides. Bad files raise ValueError naming file, line and key.");
+
+  py::class_<SolutionHandle, std::shared_ptr<SolutionHandle>>(m, "Solution", "An optimised trajectory.")
+      .def_property_readonly("feasible", [](const SolutionHandle& s) { return s.result.feasible(); },
+                             "Every stage succeeded and every complementarity product is within the tolerance.")
+      .def_property_readonly("status", [](const SolutionHandle& s) { return s.result.report.stages.back().status; },
+                             "Ipopt's status of the last stage.")
+      .def_property_readonly(
+          "summary",
+          [](const SolutionHandle& s) { return py::module_::import("json").attr("loads")(summaryJson(s.result)); },
+          "summary.json as a dict: the mesh, seed, Ipopt's status per stage and attempt, timing, products.")
+      .def_property_readonly("problem", [](const SolutionHandle& s) { return std::make_shared<collocation::Problem>(s.result.problem()); })
+      .def_property_readonly(
+          "t",
+          [](const SolutionHandle& s) {
+            Eigen::VectorXd t(static_cast<Eigen::Index>(s.result.samples.size()));
+            for (Eigen::Index k = 0; k < t.size(); ++k) t[k] = s.result.samples[static_cast<std::size_t>(k)].t;
+            return t;
+          },
+          "Sample times [s]: every point of every element (a velocity jump: two samples at one time).")
+      .def_property_readonly(
+          "q", [](const SolutionHandle& s) { return sampleMatrix(s.result.samples, s.result.problem().scene.model.nq(), [](const auto& x) { return x.q; }); },
+          "Coordinates at the samples, shape (samples, nq).")
+      .def_property_readonly(
+          "v", [](const SolutionHandle& s) { return sampleMatrix(s.result.samples, s.result.problem().scene.model.nv(), [](const auto& x) { return x.v; }); },
+          "Velocities at the samples, shape (samples, nv).")
+      .def_property_readonly(
+          "u",
+          [](const SolutionHandle& s) {
+            const int nu = static_cast<int>(s.result.problem().inputs.size());
+            return sampleMatrix(s.result.samples, nu, [nu](const auto& x) {
+              return x.u.size() == nu ? Eigen::VectorXd(x.u) : Eigen::VectorXd(Eigen::VectorXd::Zero(nu));
+            });
+          },
+          "Inputs at the samples (zero where a point has none), shape (samples, inputs).")
+      .def_property_readonly("mesh_times", [](const SolutionHandle& s) { return s.trajectory.meshTimes(); },
+                             "Element boundaries [s].")
+      .def(
+          "at",
+          [](const SolutionHandle& s, double t, const std::string& side) {
+            if (side != "before" && side != "after") throw std::invalid_argument("side: expected 'before' or 'after'");
+            const collocation::TrajectoryPoint p =
+                s.trajectory.at(t, side == "before" ? collocation::Side::Before : collocation::Side::After);
+            py::dict d;
+            d["q"] = p.q;
+            d["v"] = p.v;
+            d["a"] = p.a;
+            d["u"] = p.u;
+            return d;
+          },
+          py::arg("t"), py::arg("side") = "after",
+          "The element polynomials at time t [s] (paper eq. 3): q, v, a, u; at a velocity jump the left "
+          "('before') or right ('after') limit.")
+      .def(
+          "save", [](const SolutionHandle& s, const std::string& dir) { saveSolution(dir, s.result); }, py::arg("dir"),
+          "Writes trajectory.csv, variables.csv and summary.json into dir, as `saltus optimize --out dir` does "
+          "(what `saltus replay` and `saltus render` read).");
+
+  m.def(
+      "optimize",
+      [](const py::object& problem, const std::string& method, std::optional<int> N, std::optional<int> P,
+         std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
+         std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
+         const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
+         bool require_feasible, const Parameters& set) {
+        const ProblemPtr p = problemOf(problem, set);
+        OptimizeOptions o;
+        o.method = collocation::parseMethod(method);
+        o.N = N;
+        o.P = P;
+        o.random_seed = seed;
+        if (seed_kind) o.seed_kind = collocation::parseSeedKind(*seed_kind);
+        o.seed_from = seed_from;
+        o.seed_scale = seed_scale;
+        o.restarts = restarts;
+        if (hessian) {
+          if (*hessian != "exact" && *hessian != "limited-memory")
+            throw std::invalid_argument("hessian: expected 'exact' or 'limited-memory', got '" + *hessian + "'");
+          o.exact_hessian = *hessian == "exact";
+        }
+        o.solve.ipopt = ipopt;
+        o.solve.print_level = print_level;
+        if (tighten_within) o.solve.tighten_within = *tighten_within;
+        // Ctrl-C: Python's signal handler only flags the signal; Ipopt's callback looks at every
+        // iteration (with the GIL) and stops the solve, which then raises KeyboardInterrupt.
+        bool stopped = false;
+        o.solve.interrupted = [&stopped] {
+          py::gil_scoped_acquire gil;
+          if (!stopped && PyErr_CheckSignals() != 0) {
+            PyErr_Clear();
+            stopped = true;
+          }
+          return stopped;
+        };
+        std::optional<OptimizeResult> result;
+        {
+          py::gil_scoped_release release;
+          result.emplace(saltus::optimize(*p, o));
+        }
+        if (stopped) {
+          PyErr_SetNone(PyExc_KeyboardInterrupt);
+          throw py::error_already_set();
+        }
+        auto solution = std::make_shared<SolutionHandle>(std::move(*result));
+        if (require_feasible && !solution->result.feasible()) {
+          const std::string status = solution->result.report.stages.back().status;
+          PyErr_SetObject(solve_error.ptr(),
+                          py::make_tuple(p->name + ": the solve ended infeasible (" + status + ", largest product " +
+                                             std::to_string(solution->result.report.largest_product) + ")",
+                                         status)
+                              .ptr());
+          throw py::error_already_set();
+        }
+        return solution;
+      },
+      py::arg("problem"), py::kw_only(), py::arg("method") = "impulsive", py::arg("N") = py::none(),
+      py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
+      py::arg("seed_from") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
+      py::arg("hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
+      py::arg("print_level") = 0, py::arg("tighten_within") = py::none(), py::arg("require_feasible") = false,
+      py::arg("set") = Parameters{},
+      "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
+      "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize`. An "
+      "infeasible solve is a Solution with feasible False (require_feasible=True raises saltus.SolveError "
+      "instead). The GIL is released while Ipopt runs; Ctrl-C stops the solve and raises KeyboardInterrupt.");
+}
+
+}  // namespace saltus::python

@@ -1,0 +1,80 @@
+"""saltus.optimize from Python: the paper's drop (e = 0.5) with the C++ tests' figures (the jump from
+−sqrt(2 g h) to e sqrt(2 g h) at sqrt(2 h / g)), the polynomials between the samples, the saved
+folder byte-identical to `saltus optimize`'s and replayed by `saltus replay`, Ctrl-C stopping a
+solve as KeyboardInterrupt, and bad input as ValueError."""
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import saltus
+
+G, H = 9.81, 0.1
+
+
+@pytest.fixture(scope="module")
+def drop():
+    return saltus.optimize("point_mass_drop", method="impulsive", seed=2, set={"restitution": 0.5})
+
+
+def test_the_drop_jumps_with_newtons_restitution(drop):
+    assert drop.feasible
+    assert drop.summary["iterations"] > 0 and drop.summary["feasible"] is True
+    assert drop.summary["stages"][-1]["status"] == drop.status
+    speed = np.sqrt(2 * G * H)
+    assert drop.v.min() == pytest.approx(-speed, rel=1e-3)
+    assert drop.v.max() == pytest.approx(0.5 * speed, rel=1e-3)
+    assert drop.t[np.argmin(drop.v[:, 0])] == pytest.approx(np.sqrt(2 * H / G), abs=1e-3)
+    assert drop.q.shape == (drop.t.size, 1) and drop.u.shape == (drop.t.size, 0)
+
+
+def test_the_polynomials_fall_freely_between_the_samples(drop):
+    t_impact = drop.t[np.argmin(drop.v[:, 0])]
+    for t in np.linspace(0.01, 0.9 * t_impact, 7):
+        p = drop.at(t)
+        assert p["q"][0] == pytest.approx(H - 0.5 * G * t * t, abs=1e-6)
+        assert p["v"][0] == pytest.approx(-G * t, abs=1e-6)
+    before, after = drop.at(t_impact, "before"), drop.at(t_impact, "after")
+    assert after["v"][0] - before["v"][0] == pytest.approx(1.5 * np.sqrt(2 * G * H), rel=1e-3)
+
+
+def test_the_saved_folder_is_the_commands_and_replays(drop, tmp_path, saltus_binary):
+    drop.save(str(tmp_path / "python"))
+    subprocess.run([saltus_binary, "optimize", "point_mass_drop", "--seed", "2", "--set", "restitution=0.5",
+                    "--out", str(tmp_path / "cli")], check=True, capture_output=True)
+    for name in ("trajectory.csv", "variables.csv"):
+        assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    replay = subprocess.run([saltus_binary, "replay", str(tmp_path / "python"), "--out", str(tmp_path / "replay")],
+                            capture_output=True, text=True)
+    assert replay.returncode == 0, replay.stderr
+
+
+def test_ctrl_c_stops_a_solve_cleanly():
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        saltus.optimize("pendulum_conveyor", N=40, restarts=3)
+    timer.cancel()
+    assert time.monotonic() - start < 20
+    assert saltus.optimize("point_mass_drop").feasible  # the module still works
+
+
+def test_bad_input_is_a_value_error_and_an_infeasible_solve_can_be_an_error():
+    with pytest.raises(ValueError, match="P: expected an order from 1 to 9"):
+        saltus.optimize("point_mass_drop", P=12)
+    with pytest.raises(ValueError, match="method"):
+        saltus.optimize("point_mass_drop", method="magic")
+    with pytest.raises(ValueError, match="restitution"):
+        saltus.optimize("point_mass_drop", method="continuous", set={"restitution": 0.5})
+    with pytest.raises(ValueError, match="no_such_problem"):
+        saltus.load_problem("no_such_problem")
+    with pytest.raises(saltus.SolveError) as error:
+        saltus.optimize("point_mass_drop", ipopt={"max_iter": "2"}, restarts=0, require_feasible=True)
+    assert error.value.args[1] == "Maximum_Iterations_Exceeded"
+    problem = saltus.load_problem("point_mass_drop", {"height": 0.2})
+    assert problem.parameters["height"] == 0.2 and problem.N == 20
