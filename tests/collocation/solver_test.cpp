@@ -262,6 +262,28 @@ TEST(Solver, ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt) {
   for (const Sample& r : trajectory(on, stays.x)) EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
 }
 
+// SolveOptions::interrupted, asked at every Ipopt iteration: true stops the solve there, with no
+// further stage or attempt, reported as interrupted and not feasible.
+TEST(Solver, AnInterruptionStopsTheSolveAtTheNextIteration) {
+  const Problem p = testing::pointMassDrop(0.5);
+  const Transcription t(p, Method::Impulsive);
+  int calls = 0;
+  SolveOptions o;
+  o.restarts = 3;
+  o.interrupted = [&calls] { return ++calls >= 5; };
+  const SolveReport report = solve(t, makeSeeding(t).seed, o);
+  EXPECT_TRUE(report.interrupted);
+  EXPECT_FALSE(report.feasible);
+  EXPECT_EQ(calls, 5);
+  ASSERT_EQ(report.stages.size(), 1u);
+  EXPECT_EQ(report.stages[0].status, "User_Requested_Stop");
+  EXPECT_EQ(report.attempts.size(), 1u);
+  EXPECT_LE(report.iterations, 5);
+  // Never interrupted: the same solve ends feasible.
+  o.interrupted = [] { return false; };
+  EXPECT_TRUE(solve(t, makeSeeding(t).seed, o).feasible);
+}
+
 TEST(Solver, GaussCollocationConvergenceOrder) {
   const dynamics::Model<double> model = testing::pendulumModel({1.0}, {0.5});
   const double T = 0.6, q0 = 1.0;

@@ -85,4 +85,45 @@ TEST_F(ApiOptimize, AMethodThatCannotRepresentTheProblemIsRefused) {
   EXPECT_THROW(saltus::optimize(problem, options), std::invalid_argument);
 }
 
+TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
+  const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {});
+  saltus::OptimizeOptions options;
+  options.N = 10;
+  options.P = 3;
+  options.random_seed = 7;
+  options.seed_scale = 0.25;
+  options.restarts = 2;
+  options.exact_hessian = false;
+  const saltus::collocation::Problem adjusted = saltus::adjustedProblem(problem, options);
+  EXPECT_EQ(adjusted.N, 10);
+  EXPECT_EQ(adjusted.P, 3);
+  EXPECT_EQ(adjusted.random_seed, 7u);
+  EXPECT_EQ(adjusted.seed_scale, 0.25);
+  EXPECT_EQ(adjusted.restarts, 2);
+  EXPECT_FALSE(adjusted.exact_hessian);
+  auto message = [&](const saltus::OptimizeOptions& o) {
+    try {
+      saltus::adjustedProblem(problem, o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  saltus::OptimizeOptions bad;
+  bad.P = 12;
+  EXPECT_EQ(message(bad).rfind("P: expected an order from 1 to 9, got 12", 0), 0u);
+  bad = {};
+  bad.N = 0;
+  EXPECT_EQ(message(bad).rfind("N: ", 0), 0u);
+  bad = {};
+  bad.seed_kind = saltus::collocation::SeedKind::Solution;
+  EXPECT_EQ(message(bad).rfind("seed_kind: ", 0), 0u);
+  bad = {};
+  bad.seed_scale = -1;
+  EXPECT_EQ(message(bad).rfind("seed_scale: ", 0), 0u);
+  bad = {};
+  bad.restarts = -1;
+  EXPECT_EQ(message(bad).rfind("restarts: ", 0), 0u);
+}
+
 }  // namespace
