@@ -13,5 +13,6 @@ void bindErrors(py::module_& m);    // errors.cpp: C++ exceptions as Python ones
 void bindDynamics(py::module_& m);  // dynamics.cpp: Model and the kernels
 void bindScenes(py::module_& m);    // simulate.cpp: scenes, the stepper, simulate
 void bindOptimize(py::module_& m);  // optimize.cpp: problems, optimize, solutions
+void bindReplay(py::module_& m);    // replay.cpp: replay, render, frames
 
 }  // namespace saltus::python

@@ -6,4 +6,5 @@ PYBIND11_MODULE(_saltus, m) {
   saltus::python::bindDynamics(m);
   saltus::python::bindScenes(m);
   saltus::python::bindOptimize(m);
+  saltus::python::bindReplay(m);
 }
