@@ -89,3 +89,19 @@ def test_bad_input_is_a_value_error_naming_it(iiwa, root):
         saltus.Model.from_urdf(str(root / "models/benchmark/iiwa.urdf"), base="floating")
     with pytest.raises(ValueError, match="nothing"):
         saltus.point_jacobian(iiwa, np.zeros(7), "nothing")
+
+
+def test_kernels_equal_the_commands(iiwa, root, saltus_binary):
+    import json
+    import subprocess
+
+    q, v, tau = np.linspace(0.1, 0.7, 7), np.linspace(-1, 1, 7), np.arange(1.0, 8.0)
+    fmt = lambda x: ",".join(repr(float(e)) for e in x)  # noqa: E731
+    out = subprocess.run([saltus_binary, "inspect", str(root / "models/benchmark/iiwa.urdf"), "--json",
+                          "--q=" + fmt(q), "--v=" + fmt(v), "--tau=" + fmt(tau)],
+                         check=True, capture_output=True, text=True).stdout
+    j = json.loads(out)
+    np.testing.assert_allclose(saltus.crba(iiwa, q), np.array(j["M"]), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(saltus.nonlinear_effects(iiwa, q, v), np.array(j["h"]), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(saltus.aba(iiwa, q, v, tau), np.array(j["qdd"]), rtol=1e-10, atol=1e-10)
+    assert j["coordinates"][0]["name"] if isinstance(j["coordinates"][0], dict) else j["coordinates"][0]
