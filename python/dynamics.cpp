@@ -3,6 +3,7 @@
 // carries its own workspace (dynamics::Data), so a call allocates only its result. Arrays are
 // float64; a contiguous float64 array is read in place (Eigen::Ref), any other is converted. A
 // vector of the wrong length is a ValueError naming the function and the argument.
+#include <fstream>
 #include <memory>
 #include <string>
 
@@ -63,6 +64,19 @@ void bindDynamics(py::module_& m) {
           },
           py::arg("path"), py::arg("base") = "fixed",
           "Reads a URDF file; base: 'fixed', 'planar' (x, z, pitch) or 'free' (x, y, z and a rotation vector).")
+      .def_static(
+          "builtin",
+          [](const std::string& name, const std::string& base) {
+            for (const char* folder : {"benchmark", "pendulum"}) {
+              const std::string path = scene::dataDirectory() + "/models/" + folder + "/" + name + ".urdf";
+              if (std::ifstream(path)) return std::make_shared<ModelHandle>(saltus::loadModel(path, parseBase(base)));
+            }
+            throw std::invalid_argument("model '" + name +
+                                        "': not a bundled model (iiwa, hyq, atlas in models/benchmark; "
+                                        "double_pendulum in models/pendulum)");
+          },
+          py::arg("name"), py::arg("base") = "fixed",
+          "A bundled URDF by name: 'iiwa', 'hyq', 'atlas' (models/benchmark, MIT licence) or 'double_pendulum'.")
       .def_static(
           "from_scene",
           [](const std::string& scene, const std::map<std::string, double>& set) {

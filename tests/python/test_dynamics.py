@@ -80,6 +80,14 @@ def test_integer_and_strided_arrays_are_converted(iiwa):
     np.testing.assert_allclose(tau, saltus.nonlinear_effects(iiwa, np.zeros(7), np.zeros(7)))
 
 
+def test_bundled_models_by_name(iiwa):
+    assert saltus.Model.builtin("iiwa").body_names == iiwa.body_names
+    assert saltus.Model.builtin("hyq", base="free").nq == 18
+    assert saltus.Model.builtin("double_pendulum").nq == 2
+    with pytest.raises(ValueError, match="not a bundled model"):
+        saltus.Model.builtin("r2d2")
+
+
 def test_bad_input_is_a_value_error_naming_it(iiwa, root):
     with pytest.raises(ValueError, match="rnea.*q"):
         saltus.rnea(iiwa, np.zeros(6), np.zeros(7), np.zeros(7))
