@@ -108,6 +108,11 @@ int replayCommand(const ReplayCliOptions& opt) {
     o.input_offset = Eigen::Map<const Eigen::VectorXd>(values.data(), nu);
   }
 
+  try {
+    verify::checkReplayOptions(o, solution);
+  } catch (const std::invalid_argument& e) {
+    throw optionError(e);
+  }
   const ReplayResult r = verify::replay(solution, o);
   const std::string chart_error = writeReplay(opt.out, r, opt.dir);
 

@@ -262,8 +262,64 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
 
 }  // namespace
 
+// ---- nesting depth, before urdfdom -------------------------------------------------------------
+
+// The deepest element nesting a URDF may have. A URDF nests a few levels (robot, link, visual,
+// geometry, mesh; gazebo extensions a few more); TinyXML, under urdfdom, parses recursively and
+// overflows the stack near 10^5 levels, so a deeper file is refused before it is parsed.
+constexpr int kMaxXmlDepth = 100;
+
+// Refuses XML whose elements nest deeper than kMaxXmlDepth, naming the line: a scan of the tags
+// (comments, CDATA, processing instructions and declarations skipped; quoted attribute values
+// may hold '>'). Malformed XML is left to the parser's own message.
+void checkXmlNesting(const std::string& xml, const std::string& source_name) {
+  int depth = 0, line = 1;
+  const std::size_t n = xml.size();
+  auto skipTo = [&](std::size_t from, const char* end) {
+    const std::size_t k = xml.find(end, from);
+    const std::size_t stop = k == std::string::npos ? n : k + std::strlen(end);
+    line += static_cast<int>(std::count(xml.begin() + static_cast<std::ptrdiff_t>(from),
+                                        xml.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+    return stop;
+  };
+  for (std::size_t i = 0; i < n;) {
+    if (xml[i] == '\n') ++line;
+    if (xml[i] != '<') {
+      ++i;
+      continue;
+    }
+    if (xml.compare(i, 4, "<!--") == 0) {
+      i = skipTo(i + 4, "-->");
+    } else if (xml.compare(i, 9, "<![CDATA[") == 0) {
+      i = skipTo(i + 9, "]]>");
+    } else if (xml.compare(i, 2, "<?") == 0) {
+      i = skipTo(i + 2, "?>");
+    } else if (xml.compare(i, 2, "<!") == 0) {
+      i = skipTo(i + 2, ">");
+    } else if (xml.compare(i, 2, "</") == 0) {
+      depth = std::max(0, depth - 1);
+      i = skipTo(i + 2, ">");
+    } else {  // an opening tag: up to its '>' outside quotes; "/>" closes it at once
+      const int tag_line = line;
+      char quote = 0;
+      std::size_t j = i + 1;
+      for (; j < n && (quote || xml[j] != '>'); ++j) {
+        if (xml[j] == '\n') ++line;
+        if (quote ? xml[j] == quote : (xml[j] == '"' || xml[j] == '\'')) quote = quote ? 0 : xml[j];
+      }
+      if (j >= n) return;  // unterminated: the parser says so
+      if (xml[j - 1] != '/' && ++depth > kMaxXmlDepth)
+        fail(source_name + ":" + std::to_string(tag_line),
+             "XML elements nested deeper than " + std::to_string(kMaxXmlDepth) +
+                 " levels; a URDF nests a few (robot, link, visual, geometry, mesh)");
+      i = j + 1;
+    }
+  }
+}
+
 ModelBuilder readUrdfString(const std::string& xml, const std::string& source_name) {
   // Parse with urdfdom; on failure explain a closed loop ourselves, then quote the parser.
+  checkXmlNesting(xml, source_name);
   std::vector<ParserMessage> messages;
   const urdf::ModelInterfaceSharedPtr urdf_model = parseWithUrdfdom(xml, messages);
   if (!urdf_model) {

@@ -48,6 +48,9 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   }
   if (options.exact_hessian) problem.exact_hessian = *options.exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
+  if (options.solve.print_level < 0 || options.solve.print_level > 12)
+    throw std::invalid_argument("print_level: expected Ipopt's print level, 0 … 12, got " +
+                                std::to_string(options.solve.print_level));
   if (!(options.solve.tighten_within >= 0))
     throw std::invalid_argument("tighten_within: expected a non-negative ratio (0: never tighten)");
   return problem;

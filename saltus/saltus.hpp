@@ -144,7 +144,7 @@ struct OptimizeOptions {
 
 // The problem with the options' changes: remeshed to N, P; the seed's kind, scale and random
 // seed; restarts; the Hessian. Throws std::invalid_argument naming the field ("P: expected an
-// order from 1 to 9, got 12").
+// order from 1 to 9, got 12"; also for a print level outside 0 … 12).
 collocation::Problem adjustedProblem(collocation::Problem problem, const OptimizeOptions& options);
 
 struct OptimizeResult {

@@ -55,6 +55,12 @@ scene::Scene replayScene(const SavedSolution& solution) {
 void checkReplayOptions(const ReplayOptions& o, const SavedSolution& solution) {
   auto positive = [](double x) { return std::isfinite(x) && x > 0; };
   if (!positive(o.dt)) throw std::invalid_argument("dt: expected a positive step, got " + std::to_string(o.dt));
+  // At least ten steps over the solution: a longer step would replay nothing of it (and the
+  // default tolerance, 10 m/s × dt, would grow to accept anything).
+  const double T = solution.trajectory().endTime();
+  if (o.dt > T / 10)
+    throw std::invalid_argument("dt: expected at most a tenth of the solution's duration (T = " + std::to_string(T) +
+                                " s), got " + std::to_string(o.dt) + " s");
   if (!(o.theta >= 0.5 && o.theta <= 1.0)) throw std::invalid_argument("theta: expected a value in [0.5, 1]");
   if (!(std::isfinite(o.kp) && o.kp >= 0) || !(std::isfinite(o.kd) && o.kd >= 0))
     throw std::invalid_argument("kp, kd: expected non-negative gains");

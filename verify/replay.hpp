@@ -186,8 +186,8 @@ struct ReplayResult {
 // The Problem's scene with its mesh surface steps placed at the solved mesh times.
 scene::Scene replayScene(const collocation::SavedSolution& solution);
 
-// Checks the options (dt > 0 and finite, θ in [½, 1], gains ≥ 0, tolerance ≥ 0, input_offset
-// size); throws std::invalid_argument naming the field.
+// Checks the options (dt > 0 and finite and at most T/10 of the solution, θ in [½, 1], gains ≥ 0,
+// tolerance ≥ 0, input_offset size); throws std::invalid_argument naming the field.
 void checkReplayOptions(const ReplayOptions& options, const collocation::SavedSolution& solution);
 
 // Replays `solution` in each engine of options.engines. An engine that fails mid-run (an LCP

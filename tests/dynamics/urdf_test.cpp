@@ -170,6 +170,26 @@ TEST(UrdfErrors, StringUsesSourceName) {
   EXPECT_EQ(unnamed.rfind("<string>: ", 0), 0u) << unnamed;
 }
 
+// A hostile file of 100,000 nested elements after valid content overflowed TinyXML's recursive
+// parser (SIGSEGV): it is refused before parsing, naming the line of the element too deep. Valid
+// content nested a few levels, comments, CDATA and '>' inside quoted values are not counted.
+TEST(UrdfErrors, ElementsNestedTooDeepAreRefusedBeforeParsing) {
+  const std::string valid =
+      "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n<!-- <a><b><c> -->\n<link name=\"base\"/>\n"
+      "<link name=\"l1\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" "
+      "iyz=\"0\" izz=\"1\"/></inertial><visual name=\"a>b\"><geometry><box size=\"1 1 1\"/></geometry>"
+      "</visual></link>\n<joint name=\"j\" type=\"revolute\"><parent link=\"base\"/><child link=\"l1\"/>"
+      "<axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n";
+  EXPECT_EQ(loadUrdfString(valid + "</robot>").nq(), 1);
+  std::string deep = valid;
+  for (int i = 0; i < 100000; ++i) deep += "<a>";
+  const std::string what = errorOf([&] { loadUrdfString(deep + "</robot>", BaseType::Fixed, "deep.urdf"); });
+  EXPECT_EQ(what.rfind("deep.urdf:7: XML elements nested deeper than 100 levels", 0), 0u) << what;
+  std::string at_limit = valid;  // robot + 99 levels: accepted by the scan, then urdfdom's own message
+  for (int i = 0; i < 99; ++i) at_limit += "<a>";
+  EXPECT_EQ(errorOf([&] { loadUrdfString(at_limit + "</robot>"); }).find("nested deeper"), std::string::npos);
+}
+
 // console_bridge: urdfdom's messages go into the error, never to stderr; the user's handler and
 // log level are restored.
 TEST(UrdfErrors, ParserOutputCapturedAndHandlerRestored) {

@@ -124,6 +124,11 @@ TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
   bad = {};
   bad.restarts = -1;
   EXPECT_EQ(message(bad).rfind("restarts: ", 0), 0u);
+  for (int level : {-5, 13, 99}) {
+    bad = {};
+    bad.solve.print_level = level;
+    EXPECT_EQ(message(bad).rfind("print_level: expected Ipopt's print level, 0 … 12", 0), 0u) << level;
+  }
 }
 
 }  // namespace

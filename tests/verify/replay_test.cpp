@@ -224,6 +224,19 @@ TEST(Replay, RefusesBadOptions) {
   EXPECT_THROW(replay(s, o), std::invalid_argument);
   o.dt = -1e-3;
   EXPECT_THROW(replay(s, o), std::invalid_argument);
+  // A step longer than a tenth of the solution replays nothing of it (its default tolerance,
+  // 10 m/s × dt, would accept anything): refused, naming the duration.
+  const double T = s.trajectory().endTime();
+  o.dt = 10;
+  try {
+    replay(s, o);
+    ADD_FAILURE() << "dt = 10 s accepted on a " << T << " s solution";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("dt: expected at most a tenth of the solution's duration"), std::string::npos)
+        << e.what();
+  }
+  o.dt = T / 10;  // the longest step accepted
+  EXPECT_NO_THROW(checkReplayOptions(o, s));
   o = replayOptions({EngineKind::Saltus});
   o.input_offset = Eigen::VectorXd::Zero(2);  // one input
   EXPECT_THROW(replay(s, o), std::invalid_argument);
