@@ -49,6 +49,17 @@ Evaluation evaluate(const Model<double>& model, const InspectOptions& opt) {
   e.h = dynamics::nonLinearEffects(model, data, e.q, e.v);
   if (e.a) e.tau = dynamics::rnea(model, data, e.q, e.v, *e.a);
   if (e.tau_in) e.qdd = dynamics::aba(model, data, e.q, e.v, *e.tau_in);
+  // Finite inputs can overflow (--v=1e200: the velocity product is 1e400): a result that is not
+  // finite is an error, not a null in the output.
+  auto check = [](const char* what, const Eigen::MatrixXd& x, const char* inputs) {
+    if (!x.allFinite())
+      throw std::runtime_error(std::string(what) + " is not finite for the state given (" + inputs +
+                               " too large for double precision?)");
+  };
+  check("M(q)", e.M, "--q");
+  check("h(q, v)", e.h, "--q, --v");
+  if (e.tau) check("tau", *e.tau, "--q, --v, --a");
+  if (e.qdd) check("qdd", *e.qdd, "--q, --v, --tau");
   return e;
 }
 

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -195,6 +197,24 @@ bool toVisual(const urdf::Visual& in, Visual& out) {
   return true;
 }
 
+// A shape's sizes are positive and finite (a box's three edges, a cylinder's radius and length, a
+// sphere's radius; a mesh's scale finite and non-zero): a negative or NaN size draws nothing.
+void checkVisualSize(const Visual& v, const std::string& link, const std::string& source) {
+  const char* shapes[] = {"box", "cylinder", "sphere", "mesh"};
+  const int used = v.shape == Visual::Shape::Box ? 3 : v.shape == Visual::Shape::Cylinder ? 2 : 1;
+  const Eigen::Vector3d size = v.shape == Visual::Shape::Mesh ? v.mesh_scale : v.size;
+  bool ok = true;
+  for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i)
+    ok = ok && std::isfinite(size[i]) && (v.shape == Visual::Shape::Mesh ? size[i] != 0 : size[i] > 0);
+  if (ok) return;
+  std::ostringstream got;
+  for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i) got << (i ? " " : "") << size[i];
+  fail(source, "link '" + link + "': visual " + shapes[static_cast<int>(v.shape)] +
+                   (v.shape == Visual::Shape::Mesh ? " scale: expected finite, non-zero factors"
+                                                   : " size: expected positive, finite lengths [m]") +
+                   ", got '" + got.str() + "'");
+}
+
 LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
   LinkSpec spec;
   spec.name = link.name;
@@ -219,6 +239,7 @@ LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
   for (const urdf::VisualSharedPtr& v : link.visual_array) {
     Visual visual;
     if (v && toVisual(*v, visual)) {
+      checkVisualSize(visual, link.name, source);
       visual.link = link.name;
       spec.visuals.push_back(std::move(visual));
     }
@@ -252,6 +273,12 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
   if (joint.limits) {
     spec.limits.velocity = joint.limits->velocity;
     spec.limits.effort = joint.limits->effort;
+    // Maxima: a negative or non-finite one is a typo, not a limit.
+    for (const auto& [name, value] : {std::pair<const char*, double>{"effort", spec.limits.effort},
+                                      std::pair<const char*, double>{"velocity", spec.limits.velocity}})
+      if (!(value >= 0) || !std::isfinite(value))
+        fail(source, "joint '" + joint.name + "': <limit " + name + ">: expected a non-negative, finite maximum, got " +
+                         std::to_string(value));
     if (spec.type == LinkJointType::Revolute || spec.type == LinkJointType::Prismatic) {
       spec.limits.lower = joint.limits->lower;
       spec.limits.upper = joint.limits->upper;
@@ -329,6 +356,10 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
                             "there is no root link (urdfdom: " + summarise(messages) + ")");
     fail(source_name, "not a valid URDF (urdfdom: " + summarise(messages) + ")");
   }
+  // urdfdom reports some bad elements (a box size of "1 nan 1") as errors and drops them,
+  // returning the rest: what it could not read is refused too.
+  for (const ParserMessage& m : messages)
+    if (m.level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) fail(source_name, "not a valid URDF (urdfdom: " + summarise(messages) + ")");
 
   // urdfdom's links own their child links: a loop it accepts (beside the tree) would leak, so
   // drop that ownership once converted, also when conversion throws.

@@ -134,7 +134,12 @@ bool plainNumber(const std::string& s, double& x) {
 YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   try {
     if (!std::filesystem::is_regular_file(path)) throw ScenarioError(path + ": cannot open the " + what + ": no such file");
-    return YAML::LoadFile(path);
+    // One document: a second one (after '---') would be silently ignored.
+    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
+    if (documents.size() > 1)
+      throw ScenarioError(location(path, documents[1].Mark()) + ": a second YAML document; a " + what +
+                          " holds one (remove the '---' line before it)");
+    return documents.empty() ? YAML::Node() : documents.front();
   } catch (const YAML::ParserException& e) {
     throw ScenarioError(location(path, e.mark) + ": YAML syntax error: " + e.msg);
   } catch (const YAML::BadFile&) {

@@ -206,6 +206,11 @@ TEST(InspectErrors, NotANumberNamesTheToken) {
   expectError({"inspect", kPendulum, "--q=0,"}, 2, "--q: value 2 (theta2) is empty");
 }
 
+// Finite inputs whose results overflow (v² ~ 1e400) are an error, not "null" with exit 0.
+TEST(InspectErrors, ResultsThatAreNotFiniteAreErrors) {
+  expectError({"inspect", kPendulum, "--json", "--q=0,0", "--v=1e200,1e200"}, 1, "h(q, v) is not finite for the state given");
+}
+
 TEST(InspectErrors, StateOptionsNeedQ) {
   expectError({"inspect", kPendulum, "--json", "--a=0,0"}, 2, "--a needs --q");
 }

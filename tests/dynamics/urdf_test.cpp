@@ -190,6 +190,31 @@ TEST(UrdfErrors, ElementsNestedTooDeepAreRefusedBeforeParsing) {
   EXPECT_EQ(errorOf([&] { loadUrdfString(at_limit + "</robot>"); }).find("nested deeper"), std::string::npos);
 }
 
+// Negative or non-finite joint maxima and shape sizes are typos the model would carry on with:
+// refused, naming the joint or link and the value; so is what urdfdom reports as an error and drops.
+TEST(UrdfErrors, NegativeLimitsAndShapeSizesAreRefused) {
+  auto robot = [](const std::string& limit, const std::string& geometry) {
+    return "<robot name=\"r\"><link name=\"base\"/><link name=\"l1\"><inertial><mass value=\"1\"/>"
+           "<inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial><visual><geometry>" +
+           geometry + "</geometry></visual></link><joint name=\"j\" type=\"revolute\"><parent link=\"base\"/>"
+           "<child link=\"l1\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" " + limit + "/></joint></robot>";
+  };
+  const std::string good_limit = "effort=\"10\" velocity=\"3\"", good_box = "<box size=\"1 2 3\"/>";
+  EXPECT_EQ(loadUrdfString(robot(good_limit, good_box)).nq(), 1);
+  EXPECT_EQ(loadUrdfString(robot(good_limit, "<mesh filename=\"m.stl\" scale=\"-1 1 1\"/>")).nq(), 1);  // mirrored
+  std::string what = errorOf([&] { loadUrdfString(robot("effort=\"-10\" velocity=\"3\"", good_box)); });
+  EXPECT_HAS(what, "joint 'j': <limit effort>: expected a non-negative, finite maximum, got -10");
+  what = errorOf([&] { loadUrdfString(robot("effort=\"10\" velocity=\"-3\"", good_box)); });
+  EXPECT_HAS(what, "joint 'j': <limit velocity>");
+  what = errorOf([&] { loadUrdfString(robot(good_limit, "<box size=\"-1 2 0\"/>")); });
+  EXPECT_HAS(what, "link 'l1': visual box size: expected positive, finite lengths [m], got '-1 2 0'");
+  // urdfdom cannot read "nan": it reports an error and drops the visual; the error is the refusal.
+  what = errorOf([&] { loadUrdfString(robot(good_limit, "<box size=\"1 nan 1\"/>")); });
+  EXPECT_HAS(what, "not a valid URDF (urdfdom: Unable to parse component [nan]");
+  what = errorOf([&] { loadUrdfString(robot(good_limit, "<sphere radius=\"0\"/>")); });
+  EXPECT_HAS(what, "link 'l1': visual sphere size");
+}
+
 // console_bridge: urdfdom's messages go into the error, never to stderr; the user's handler and
 // log level are restored.
 TEST(UrdfErrors, ParserOutputCapturedAndHandlerRestored) {

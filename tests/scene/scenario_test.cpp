@@ -5,6 +5,8 @@
 #include "scene/scenario.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+#include <filesystem>
 
 #include <algorithm>
 #include <cmath>
@@ -499,6 +501,20 @@ TEST(ScenarioErrors, YamlSyntax) {
   const std::string what = errorOf([] { loadScene(kDataDir + "yaml_syntax.yaml"); });
   EXPECT_EQ(what.rfind(kDataDir + "yaml_syntax.yaml:", 0), 0u) << what;
   EXPECT_TRUE(contains(what, "YAML syntax error")) << what;
+}
+// A second document (after '---', here with a negative mass) would be silently ignored: refused,
+// naming the line where it starts.
+TEST(ScenarioErrors, ASecondYamlDocumentIsRefused) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("saltus_two_documents_" + std::to_string(::getpid()) + ".yaml")).string();
+  {
+    std::ifstream in(kSceneDir + "ball_drop.yaml");
+    std::ofstream out(path);
+    out << in.rdbuf() << "---\nname: other\nmass: -5\n";
+  }
+  const std::string what = errorOf([&] { loadScene(path); });
+  std::filesystem::remove(path);
+  EXPECT_EQ(what.rfind(path + ":", 0), 0u) << what;
+  EXPECT_TRUE(contains(what, "a second YAML document")) << what;
 }
 TEST(ScenarioErrors, UrdfErrorPassesThrough) {
   expectError("bad_urdf.yaml", "model.urdf", {"missing_inertial.urdf: ", "inertial"});
