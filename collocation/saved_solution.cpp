@@ -153,6 +153,12 @@ SavedSolution loadSolution(const std::string& path) {
         throw SolutionError(file.string() + ": variable '" + names[i] + "' is missing (" + std::to_string(count) +
                             " of " + std::to_string(s.x.size()) + " given)");
   }
+  // Element lengths are positive (Ipopt keeps them within their bounds): a zero or negative one
+  // would give a trajectory running backwards or of no duration.
+  for (const ElementLayout& L : s.transcription->layout())
+    if (!(s.x[L.h] > 0))
+      throw SolutionError(file.string() + ": variable '" + names[L.h] + "': expected a positive element length [s], got " +
+                          std::to_string(s.x[L.h]));
   return s;
 }
 

@@ -55,6 +55,9 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
 
   // Rows.
   if (table.rows() == 0) throw std::runtime_error(path + ": no data rows after the header");
+  if (table.at(table.rows() - 1, 0) == table.at(0, 0))
+    throw std::runtime_error(path + ": every row is at t = " + std::to_string(table.at(0, 0)) +
+                             " s; a trajectory to draw spans some time");
   std::vector<std::span<const double>> rows;
   for (std::size_t i = 0; i < table.rows(); ++i) rows.push_back(table.row(i));
   for (const auto& row : rows) {

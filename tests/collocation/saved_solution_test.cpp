@@ -106,6 +106,13 @@ TEST_F(SavedSolutionTest, MalformedFilesNameTheFileAndLine) {
   expectError(replace("h[1,0],", "h[99,0],"), "variables.csv:9: variable 'h\\[99,0\\]' does not belong");
   expectError(replace("q[1,0],", "h[1,0],"), "variables.csv:10: variable 'h\\[1,0\\]' is given twice");
   expectError(replace("q[1,0],0.10000000000000001", "q[1,0],nan"), "variables.csv:10: q\\[1,0\\]: expected a finite number, got 'nan'");
+  // A negative element length (the trajectory would run backwards): refused, naming the variable.
+  expectError([](const std::string& s) {
+    std::string out = s;
+    const std::size_t at = out.find("\nh[2,0],") + 8;
+    out.replace(at, out.find('\n', at) - at, "-0.01");
+    return out;
+  }, "variables.csv: variable 'h\\[2,0\\]': expected a positive element length \\[s\\], got -0.01");
   expectError([](const std::string& s) { return s.substr(0, s.rfind('\n', s.size() - 2) + 1); },
               "variables.csv: variable '.*' is missing");
   fs::remove(file());

@@ -99,6 +99,8 @@ TEST(CsvTrajectory, BadFilesGiveErrorsNamingFileLineAndColumn) {
   EXPECT_NE(message(twice).find(twice + ":1: column 'q.z' appears twice"), std::string::npos);
   const std::string back = writeCsvFile("back.csv", "t,q.z\n0,1\n0.2,1\n0.1,1\n");
   EXPECT_NE(message(back).find(back + ":4: t = 0.1 is before the previous row's"), std::string::npos);
+  const std::string still = writeCsvFile("still.csv", "t,q.z\n0,1\n0,1\n0,1\n");
+  EXPECT_NE(message(still).find(still + ": every row is at t = 0"), std::string::npos) << message(still);
   const std::string empty = writeCsvFile("empty.csv", "t,q.z\n");
   EXPECT_NE(message(empty).find("no data rows"), std::string::npos);
 }
