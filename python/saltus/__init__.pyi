@@ -1,4 +1,4 @@
-"""Type stubs of the module saltus (python/*.cpp): signatures for editors and type checkers."""
+"""Type stubs of the module saltus (python/*.cpp), checked against the compiled module by tests/python/test_stubs.py."""
 from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
