@@ -8,6 +8,7 @@
 
 #include "cli/common.hpp"
 #include "dynamics/builder.hpp"
+#include "scene/cleanup.hpp"
 
 #ifndef SALTUS_VERSION
 #define SALTUS_VERSION "unknown"
@@ -60,21 +61,25 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // SIGINT, SIGTERM: children stopped, temporaries removed, exit 130 / 143 (scene/cleanup.hpp).
+  scene::installInterruptCleanup("saltus");
   for (const cli::Command& command : commands) {
     if (!command.app->parsed()) continue;
+    int code = 1;
     try {
-      return command.run();
+      code = command.run();
     } catch (const cli::UsageError& e) {
+      scene::yieldToInterrupt();  // a failure the interrupt caused is reported as the interrupt
       std::cerr << "saltus: " << e.what() << "\nRun 'saltus " << command.app->get_name()
                 << " --help' for usage.\n";
-      return 2;
-    } catch (const dynamics::ModelError& e) {
-      std::cerr << "saltus: " << e.what() << "\n";
-      return 1;
+      code = 2;
     } catch (const std::exception& e) {
+      scene::yieldToInterrupt();
       std::cerr << "saltus: " << e.what() << "\n";
-      return 1;
+      code = 1;
     }
+    scene::yieldToInterrupt();
+    return code;
   }
   return 2;  // unreachable: require_subcommand(1)
 }

@@ -34,6 +34,7 @@
 
 #include "cli/common.hpp"
 #include "cli/run_pipeline.hpp"
+#include "scene/cleanup.hpp"
 #include "cli/simulation.hpp"
 #include "saltus/collocation_source.hpp"
 
@@ -63,37 +64,25 @@ struct RunOptions {
 // chart script); records exit status and wall time.
 void runPipelineStep(PipelineStep& step, const fs::path& run_dir, const fs::path& log_path) {
   step.log = fs::relative(log_path, run_dir).string();
-  std::vector<std::string> args = step.command;
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::vector<std::string> env_strings = chartEnvironment();  // MPLBACKEND=Agg for the chart steps
-  std::vector<char*> envp;
-  for (std::string& e : env_strings) envp.push_back(e.data());
-  envp.push_back(nullptr);
-
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::fflush(nullptr);
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = 0;
-  const std::string& program = step.command[0];
-  const int rc = program.find('/') == std::string::npos
-                     ? ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data())
-                     : ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
   step.ran = true;
-  if (rc != 0) {
+  try {
+    // MPLBACKEND=Agg for the chart steps; a process group of its own, stopped on an interrupt
+    pid = scene::spawnChild(step.command[0], step.command, chartEnvironment(), &actions);
+  } catch (const std::exception& e) {
+    posix_spawn_file_actions_destroy(&actions);
     step.exit_status = -1;
-    step.note = "could not start " + program + ": " + std::strerror(rc);
+    step.note = e.what();  // "cannot start PROGRAM (reason)"
     return;
   }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw std::runtime_error("saltus run: waitpid: " + std::string(std::strerror(errno)));
+  posix_spawn_file_actions_destroy(&actions);
+  const int status = scene::waitChild(pid);
   step.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (WIFEXITED(status)) {
     step.exit_status = WEXITSTATUS(status);

@@ -1,7 +1,9 @@
 // saltus simulate SCENE: runs the Moreau–Stewart–Trinkle time-stepper (timestepper/stepper.hpp)
 // on a scenario (built-in name or file) and writes the trajectory as CSV
-// (scene/trajectory_csv.hpp): a row at t = 0 and one after every step. The file appears
+// (scene/trajectory_csv.hpp): a row at t = 0 and one after every step (or every N-th: --every,
+// --sample-dt), its size estimated and refused above a limit before the run. The file appears
 // only when the whole run succeeded. A one-line summary goes to standard error.
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -23,6 +25,9 @@ struct SimulateCliOptions {
   std::string solver = "lemke";
   double theta = 1.0;
   std::string out;
+  long every = 1;
+  std::optional<double> sample_dt;
+  double max_output_mb = 1000;
 };
 
 int simulate(const SimulateCliOptions& opt) {
@@ -30,6 +35,19 @@ int simulate(const SimulateCliOptions& opt) {
   options.dt = opt.dt;
   options.theta = opt.theta;
   options.solver = parseSolverOption(opt.solver);
+  options.every = opt.every;
+  if (opt.sample_dt) {
+    // a whole number of steps, as simulators sample their output
+    const double ratio = *opt.sample_dt / opt.dt;
+    if (!(ratio >= 1 - 1e-9) || !std::isfinite(ratio) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio ||
+        ratio > 1e15)
+      throw UsageError("--sample-dt: expected a whole multiple of --dt " + formatNumber(opt.dt) + " s, got " +
+                       formatNumber(*opt.sample_dt) + " s");
+    if (opt.every != 1) throw UsageError("--sample-dt and --every: give one of them");
+    options.every = static_cast<long>(std::round(ratio));
+  }
+  if (!(opt.max_output_mb > 0) || !std::isfinite(opt.max_output_mb))
+    throw UsageError("--max-output-mb: expected a positive size [MB], got " + formatNumber(opt.max_output_mb));
   if (opt.duration) {
     if (!(*opt.duration > 0))
       throw UsageError("--duration: expected a positive time [s], got " + formatNumber(*opt.duration));
@@ -42,10 +60,18 @@ int simulate(const SimulateCliOptions& opt) {
     throw optionError(e);
   }
   const scene::Scene scene = loadScene(opt.scene, parseSetOptions(opt.set));
+  double bytes = 0;
   try {
-    stepCount(options.duration > 0 ? options.duration : scene.duration, options.dt);
+    bytes = csvBytesEstimate(scene, options);
   } catch (const std::invalid_argument& e) {
     throw optionError(e);
+  }
+  // The size is estimated before the run: a mistyped duration is refused, not written at disk speed.
+  if (bytes > opt.max_output_mb * 1e6) {
+    const long samples = sampleCount(scene, options);
+    throw UsageError("--duration: the trajectory would be about " + formatNumber(bytes / 1e6, 3) + " MB (" +
+                     std::to_string(samples) + " rows), above --max-output-mb " + formatNumber(opt.max_output_mb) +
+                     "; keep fewer rows with --every N or --sample-dt, or raise --max-output-mb");
   }
 
   scene::TrajectoryCsvWriter writer(opt.out, scene::trajectoryLayout(scene));
@@ -61,7 +87,8 @@ int simulate(const SimulateCliOptions& opt) {
     << "; largest penetration " << formatNumber(stats.max_penetration, 3)
     << " m; energy change E_end - E_0 = " << formatNumber(run.energy_end - run.energy_start, 4)
     << " J (E_0 = " << formatNumber(run.energy_start, 4) << " J" << (run.driven ? "; input/belt work included" : "")
-    << "); wrote " << opt.out << "\n";
+    << "); wrote " << opt.out << (options.every > 1 ? " (a row every " + std::to_string(options.every) + " steps)" : "")
+    << "\n";
   std::cerr << s.str() << std::flush;
   return 0;
 }
@@ -85,6 +112,13 @@ Command addSimulateCommand(CLI::App& saltus) {
   app->add_option("--theta", opt->theta, "θ of the θ-method, in [0.5, 1] (1: Stewart-Trinkle, 0.5: Moreau midpoint)")
       ->capture_default_str();
   app->add_option("--out", opt->out, "Trajectory CSV to write")->required();
+  app->add_option("--every", opt->every, "Write the state after every N-th step (and the last)")->capture_default_str();
+  app->add_option_function<double>(
+      "--sample-dt", [opt](double d) { opt->sample_dt = d; },
+      "Write the state every SAMPLE_DT seconds (a whole multiple of --dt; instead of --every)");
+  app->add_option("--max-output-mb", opt->max_output_mb,
+                  "Refuse a run whose trajectory would exceed this size [MB] (estimated before it runs)")
+      ->capture_default_str();
   return {app, [opt] { return simulate(*opt); }};
 }
 

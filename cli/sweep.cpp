@@ -5,8 +5,9 @@
 //   DIR/charts/sweep_{time,error,cost}.{png,svg}   the paper's Figs. 6–8 per cell and method
 // The spec is checked, and every problem loaded with each of its parameter combinations,
 // before any solve starts. Run again with the same arguments, the sweep skips the solves that
-// have a record. Exit status: 0 when every solve has a record, 130 when interrupted (the
+// have a record. Exit status: 0 when every solve has a record, 130 or 143 when interrupted by SIGINT or SIGTERM (the
 // summary covers the records so far), 1 for errors (a bad spec names file, line and key).
+#include <csignal>
 #include <unistd.h>
 
 #include <cmath>
@@ -176,7 +177,7 @@ int sweepCommand(const SweepOptions& opt) {
             << result.ran << " run now), " << successes << " succeeded -> " << (out / "report.md").string() << "\n";
   if (result.interrupted) {
     std::cerr << "saltus sweep: interrupted; run the same command again to finish\n";
-    return 130;
+    return 128 + (result.signal > 0 ? result.signal : SIGINT);  // 130 (SIGINT), 143 (SIGTERM)
   }
   if (!chart_error.empty()) {
     std::cerr << "saltus: " << chart_error << "\n";

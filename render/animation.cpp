@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 
 #include "render/image_io.hpp"
+#include "scene/cleanup.hpp"
 
 namespace saltus::render {
 
@@ -140,29 +142,75 @@ FrameContent Animation::content(int frame) const {
   return out;
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// The frames folder is written as a temporary folder beside it and renamed into place when every
+// frame and the video are done, so that an interrupted or failed render leaves no frames. An
+// existing folder is replaced only when it holds nothing but frame_NNNNN.png files (an earlier
+// render's), never a folder of the user's.
+class FramesFolder {
+ public:
+  explicit FramesFolder(const std::string& dir) {
+    fs::path p(dir);
+    if (!p.has_filename()) p = p.parent_path();  // "frames/"
+    target_ = p;
+    std::error_code error;
+    const auto status = fs::symlink_status(target_, error);
+    if (fs::exists(status)) {
+      if (!fs::is_directory(status))
+        throw std::runtime_error(dir + ": exists and is not a folder; refusing to replace it with the frames");
+      for (const auto& entry : fs::directory_iterator(target_)) {
+        const std::string name = entry.path().filename().string();
+        if (!(name.size() == 15 && name.rfind("frame_", 0) == 0 && name.substr(11) == ".png"))
+          throw std::runtime_error(dir + ": holds files other than frame_NNNNN.png (" + name +
+                                   "); refusing to replace it with the frames");
+      }
+    }
+    scene::removeStaleTemporaries(target_.parent_path().string());
+    temporary_ = std::make_unique<scene::ScopedTemporary>(scene::temporaryName(target_.string()));
+    fs::create_directories(temporary_->path(), error);
+    if (error) throw std::runtime_error(dir + ": cannot create the frames folder (" + error.message() + ")");
+  }
+  std::string file(int k) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", k);
+    return (fs::path(temporary_->path()) / name).string();
+  }
+  void commit() {
+    scene::ScopedTemporary old(scene::temporaryName(target_.string(), ".old"));
+    std::error_code error;
+    if (fs::exists(target_)) fs::rename(target_, old.path(), error);
+    if (!error) fs::rename(temporary_->path(), target_, error);
+    if (error) throw std::runtime_error(target_.string() + ": cannot move the frames into place (" + error.message() + ")");
+    temporary_->keep();
+  }
+
+ private:
+  fs::path target_;
+  std::unique_ptr<scene::ScopedTemporary> temporary_;
+};
+
+}  // namespace
+
 int renderAnimation(const Animation& animation, const std::string& video_path, const std::string& frames_dir,
                     const std::function<void(int, int)>& progress) {
   Renderer renderer(animation.geometry(), animation.settings());
   std::unique_ptr<VideoWriter> video;
   if (!video_path.empty())
     video = std::make_unique<VideoWriter>(video_path, renderer.width(), renderer.height(), animation.fps());
-  if (!frames_dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(frames_dir, error);
-    if (error) throw std::runtime_error(frames_dir + ": cannot create the frames directory (" + error.message() + ")");
-  }
+  std::unique_ptr<FramesFolder> frames;
+  if (!frames_dir.empty()) frames = std::make_unique<FramesFolder>(frames_dir);
   const int n = animation.frames();
   for (int k = 0; k < n; ++k) {
     renderer.draw(animation.camera(k), animation.content(k));
-    if (!frames_dir.empty()) {
-      char name[32];
-      std::snprintf(name, sizeof name, "frame_%05d.png", k);
-      writePng((std::filesystem::path(frames_dir) / name).string(), renderer.rgb(), renderer.width(), renderer.height());
-    }
+    if (frames) writePng(frames->file(k), renderer.rgb(), renderer.width(), renderer.height());
     if (video) video->addFrame(renderer.rgb());
     if (progress) progress(k + 1, n);
   }
   if (video) video->finish();
+  if (frames) frames->commit();
   return n;
 }
 

@@ -1,6 +1,8 @@
 #include "render/image_io.hpp"
 
+#include <fcntl.h>
 #include <png.h>
+#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,21 +19,10 @@ namespace saltus::render {
 
 namespace {
 
-// A scratch file beside `path` (the encoder's log).
-std::string tempName(const std::string& path, const std::string& suffix = "") {
-  return path + ".tmp-" + std::to_string(::getpid()) + suffix;
-}
-
 // libpng reports errors through a callback that must not return: throw from it (libpng is C,
 // but built with unwinding tables on Debian; the png structs are freed by the caller's guard).
 [[noreturn]] void pngError(png_structp, png_const_charp message) { throw std::runtime_error(message); }
 void pngWarning(png_structp, png_const_charp) {}
-
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 // Whether `program` can be run: an executable path, or found in PATH.
 bool findProgram(const std::string& program) {
@@ -103,7 +94,7 @@ std::vector<std::uint8_t> readPng(const std::string& path, int* width, int* heig
 VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
     : path_(path),
       video_(path, scene::AtomicFile::Mode::External, ".mp4"),
-      log_path_(tempName(path, ".ffmpeg.log")),
+      log_(scene::temporaryName(path, ".ffmpeg.log")),
       width_(width),
       height_(height) {
   if (width % 2 != 0 || height % 2 != 0)
@@ -116,38 +107,66 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
                              "' was not found (install Debian's ffmpeg package, or set SALTUS_FFMPEG)");
   char rate[32];
   std::snprintf(rate, sizeof rate, "%.10g", fps);
-  const std::string command = shellQuote(program_) + " -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " +
-                              std::to_string(width) + "x" + std::to_string(height) + " -framerate " + rate +
-                              " -i - -an -c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -movflags +faststart -f mp4 " +
-                              shellQuote(video_.temporaryPath()) + " 2>" + shellQuote(log_path_);
+  const std::vector<std::string> arguments = {
+      program_, "-nostdin", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
+      std::to_string(width) + "x" + std::to_string(height), "-framerate", rate, "-i", "-", "-an", "-c:v", "libx264",
+      "-preset", "medium", "-crf", "20", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4",
+      video_.temporaryPath()};
   // A pipe whose reader died must fail the write (EPIPE), not kill the process.
   std::signal(SIGPIPE, SIG_IGN);
-  pipe_ = ::popen(command.c_str(), "w");
-  if (!pipe_) throw std::runtime_error("cannot encode " + path + ": cannot start " + program_ + " (" + std::strerror(errno) + ")");
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error("cannot encode " + path + ": cannot create a pipe (" + std::strerror(errno) + ")");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[0], STDIN_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log_.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  try {
+    pid_ = scene::spawnChild(program_, arguments, {}, &actions);
+  } catch (const std::exception& e) {
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw std::runtime_error("cannot encode " + path + ": " + e.what());
+  }
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(fds[0]);
+  pipe_ = ::fdopen(fds[1], "wb");
 }
 
 VideoWriter::~VideoWriter() {
-  if (pipe_) ::pclose(pipe_);
-  std::remove(log_path_.c_str());
+  if (pipe_) std::fclose(pipe_);
+  if (pid_ > 0) {
+    ::kill(-pid_, SIGTERM);  // not finished: the video is dropped
+    scene::waitChild(pid_);
+  }
+}
+
+// Closes ffmpeg's input and waits for it; its wait status.
+int VideoWriter::close() {
+  if (pipe_) std::fclose(pipe_);
+  pipe_ = nullptr;
+  const int status = scene::waitChild(pid_);
+  pid_ = -1;
+  return status;
 }
 
 std::string VideoWriter::failure(const std::string& what) const {
-  return "cannot encode " + path_ + ": " + program_ + " " + what + "; its last messages:" + tail(log_path_, 8);
+  return "cannot encode " + path_ + ": " + program_ + " " + what + "; its last messages:" + tail(log_.path(), 8);
 }
 
 void VideoWriter::addFrame(const std::vector<std::uint8_t>& rgb) {
   if (rgb.size() != static_cast<std::size_t>(width_) * height_ * 3)
     throw std::runtime_error(path_ + ": frame is not " + std::to_string(width_) + "x" + std::to_string(height_) + " RGB");
   if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) {
-    ::pclose(pipe_);
-    pipe_ = nullptr;
+    close();
     throw std::runtime_error(failure("stopped reading frames"));
   }
 }
 
 void VideoWriter::finish() {
-  const int status = ::pclose(pipe_);
-  pipe_ = nullptr;
+  const int status = close();
   if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error(failure(WIFEXITED(status) ? "failed with exit status " + std::to_string(WEXITSTATUS(status))
                                                        : std::string("was killed")));

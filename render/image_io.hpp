@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/atomic_file.hpp"
+#include "scene/cleanup.hpp"
 
 namespace saltus::render {
 
@@ -37,10 +38,13 @@ class VideoWriter {
 
  private:
   std::string failure(const std::string& what) const;
+  int close();
   std::string path_;
-  scene::AtomicFile video_;  // written by ffmpeg
-  std::string log_path_, program_;
+  scene::AtomicFile video_;   // written by ffmpeg
+  scene::ScopedTemporary log_;  // ffmpeg's messages
+  std::string program_;
   int width_, height_;
+  pid_t pid_ = -1;  // ffmpeg, in a process group of its own (scene::spawnChild)
   std::FILE* pipe_ = nullptr;
 };
 

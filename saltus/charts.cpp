@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "saltus/saltus.hpp"
+#include "scene/cleanup.hpp"
 #include "scene/scenario.hpp"
 
 extern char** environ;
@@ -37,31 +38,21 @@ std::vector<std::string> chartEnvironment() {
 }
 
 void drawChart(const std::string& kind, const std::string& csv, const std::string& png, const std::string& svg) {
-  std::vector<std::string> args = chartCommand(kind, csv, png, svg);
-  const std::string python = args[0], script = args[1];
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::vector<std::string> env_strings = chartEnvironment();
-  std::vector<char*> envp;
-  for (std::string& e : env_strings) envp.push_back(e.data());
-  envp.push_back(nullptr);
-
+  const std::vector<std::string> args = chartCommand(kind, csv, png, svg);
+  const std::string& python = args[0];
+  const std::string& script = args[1];
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);  // stdout stays ours
-  std::fflush(nullptr);
   pid_t pid = 0;
-  const int rc = python.find('/') == std::string::npos
-                     ? ::posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), envp.data())
-                     : ::posix_spawn(&pid, python.c_str(), &actions, nullptr, argv.data(), envp.data());
+  try {
+    pid = scene::spawnChild(python, args, chartEnvironment(), &actions);
+  } catch (const std::exception& e) {
+    posix_spawn_file_actions_destroy(&actions);
+    throw std::runtime_error(std::string("chart step failed: ") + e.what() + "; install python3-matplotlib or set SALTUS_PYTHON");
+  }
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0)
-    throw std::runtime_error("chart step failed: cannot start " + python + " (" + std::strerror(rc) +
-                             "); install python3-matplotlib or set SALTUS_PYTHON");
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw std::runtime_error("chart step failed: waitpid: " + std::string(std::strerror(errno)));
+  const int status = scene::waitChild(pid);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string how = WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
                                               : "was killed by signal " + std::to_string(WTERMSIG(status));

@@ -65,6 +65,7 @@ struct SimulateOptions {
   double duration = 0;    // simulated time [s]; 0: the scene's
   double theta = 1.0;     // θ-method, in [½, 1] (1: Stewart–Trinkle, ½: Moreau's midpoint)
   timestepper::LcpMethod solver = timestepper::LcpMethod::Lemke;
+  long every = 1;         // samples kept: t = 0, after every `every`-th step, and after the last
 };
 
 // Steps that cover `duration`: round(duration/dt) when that is within 1e-9 relative of an
@@ -72,9 +73,16 @@ struct SimulateOptions {
 // is not a finite number below 2^53 (a count that would overflow or lose steps).
 long stepCount(double duration, double dt);
 
-// Checks the options (dt > 0 and finite, duration ≥ 0 and finite, θ in [½, 1]); throws
+// Checks the options (dt > 0 and finite, duration ≥ 0 and finite, θ in [½, 1], every ≥ 1); throws
 // std::invalid_argument naming the field ("dt: expected …").
 void checkSimulateOptions(const SimulateOptions& options);
+
+// The samples a run of `scene` keeps (t = 0, every `every`-th step, the last), and the size of its
+// trajectory CSV, estimated before it runs at 16 bytes a value (what "%.12g" numbers average).
+long sampleCount(const scene::Scene& scene, const SimulateOptions& options);
+double csvBytesEstimate(const scene::Scene& scene, const SimulateOptions& options);
+// The memory the in-memory simulate() may take for its arrays [bytes]: above it, it refuses.
+constexpr double kMaxSimulationBytes = 4e9;
 
 // A surface moves at some time or an input is non-zero: the scene is driven from outside, and
 // its energy is not expected to decrease.

@@ -51,6 +51,34 @@ void checkSimulateOptions(const SimulateOptions& options) {
   if (!(options.theta >= 0.5 && options.theta <= 1))
     throw std::invalid_argument("theta: expected a number in [0.5, 1] (0.5: Moreau midpoint, 1: Stewart-Trinkle), got " +
                                 formatNumber(options.theta));
+  if (options.every < 1)
+    throw std::invalid_argument("every: expected a whole number of steps of 1 or more, got " + std::to_string(options.every));
+}
+
+namespace {
+
+// The steps of a run of `scene`, the options checked: a step no longer than the duration (a 10 s
+// step on a 3 s scene would simulate to 10 s).
+long runSteps(const scene::Scene& scene, const SimulateOptions& options) {
+  checkSimulateOptions(options);
+  const double duration = options.duration > 0 ? options.duration : scene.duration;
+  if (options.dt > duration * (1 + 1e-9))
+    throw std::invalid_argument("dt: " + formatNumber(options.dt) + " s is longer than the duration " +
+                                formatNumber(duration) + " s (expected at most the duration)");
+  return stepCount(duration, options.dt);
+}
+
+}  // namespace
+
+long sampleCount(const scene::Scene& scene, const SimulateOptions& options) {
+  const long steps = runSteps(scene, options);
+  return 1 + (steps + options.every - 1) / options.every;
+}
+
+double csvBytesEstimate(const scene::Scene& scene, const SimulateOptions& options) {
+  const scene::TrajectoryLayout layout = scene::trajectoryLayout(scene);
+  const double columns = static_cast<double>(scene::trajectoryHeader(layout).size());
+  return static_cast<double>(sampleCount(scene, options)) * columns * 16.0;
 }
 
 bool isDriven(const scene::Scene& scene) {
@@ -62,13 +90,12 @@ bool isDriven(const scene::Scene& scene) {
 
 SimulationSummary simulate(const scene::Scene& scene, const SimulateOptions& options,
                            const std::function<void(const SimulationSample&)>& sink) {
-  checkSimulateOptions(options);
+  const long steps = runSteps(scene, options);
   SimulationSummary summary;
   summary.scene = scene.name;
   summary.options = options;
   summary.options.duration = options.duration > 0 ? options.duration : scene.duration;
   summary.driven = isDriven(scene);
-  const long steps = stepCount(summary.options.duration, options.dt);
 
   timestepper::StepperOptions stepper_options;
   stepper_options.dt = options.dt;
@@ -82,20 +109,24 @@ SimulationSummary simulate(const scene::Scene& scene, const SimulateOptions& opt
   // Steps in batches: the clock runs around the stepping only, the sink sees a batch after it.
   constexpr long kBatch = 1024;
   std::vector<SimulationSample> batch(static_cast<std::size_t>(std::min(kBatch, steps)), first);
+  // Kept: every `every`-th step and the last.
   std::chrono::steady_clock::duration wall{};
   for (long done = 0; done < steps;) {
     const long n = std::min(kBatch, steps - done);
     const auto start = std::chrono::steady_clock::now();
+    std::size_t kept = 0;
     for (long i = 0; i < n; ++i) {
       stepper.step();
-      SimulationSample& s = batch[static_cast<std::size_t>(i)];
+      const long step = done + i + 1;
+      if (step % options.every != 0 && step != steps) continue;
+      SimulationSample& s = batch[kept++];
       s.t = stepper.time();
       s.q = stepper.q();
       s.v = stepper.v();
       s.contacts = stepper.contacts();
     }
     wall += std::chrono::steady_clock::now() - start;
-    for (long i = 0; i < n; ++i) sink(batch[static_cast<std::size_t>(i)]);
+    for (std::size_t i = 0; i < kept; ++i) sink(batch[i]);
     done += n;
   }
   summary.energy_end = stepper.energy();
@@ -106,10 +137,17 @@ SimulationSummary simulate(const scene::Scene& scene, const SimulateOptions& opt
 }
 
 Simulation simulate(const scene::Scene& scene, const SimulateOptions& options) {
-  checkSimulateOptions(options);
-  const long samples = stepCount(options.duration > 0 ? options.duration : scene.duration, options.dt) + 1;
+  const long samples = sampleCount(scene, options);
   Simulation run;
   run.layout = scene::trajectoryLayout(scene);
+  // Refused before allocating: samples × (t, q, v, 7 per contact) doubles.
+  const double bytes = static_cast<double>(samples) * 8.0 *
+                       static_cast<double>(1 + scene.model.nq() + scene.model.nv() + 7 * run.layout.contacts.size());
+  if (bytes > kMaxSimulationBytes)
+    throw std::invalid_argument("duration: " + std::to_string(samples) + " samples would take " +
+                                formatNumber(bytes / 1e9, 3) + " GB of memory (the limit is " +
+                                formatNumber(kMaxSimulationBytes / 1e9, 3) +
+                                " GB); keep fewer with every, or stream the run to a file");
   const Eigen::Index nq = scene.model.nq(), nv = scene.model.nv();
   run.t.resize(samples);
   run.q.resize(samples, nq);

@@ -1,5 +1,7 @@
 #include "scene/atomic_file.hpp"
 
+#include "scene/cleanup.hpp"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -10,19 +12,28 @@
 namespace saltus::scene {
 
 AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
-    : path_(std::move(path)), tmp_path_(path_ + ".tmp-" + std::to_string(::getpid()) + suffix) {
+    : path_(std::move(path)), tmp_path_(temporaryName(path_, suffix)) {
   std::error_code ec;
   const auto status = std::filesystem::symlink_status(path_, ec);
   if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
     throw std::runtime_error(path_ + ": exists and is not a regular file; refusing to replace it");
+  removeStaleTemporaries(std::filesystem::path(path_).parent_path().string());
+  registerTemporary(tmp_path_);
   if (mode == Mode::External) return;
   file_ = std::fopen(tmp_path_.c_str(), "wb");
-  if (!file_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  if (!file_) {
+    const int err = errno;
+    forgetTemporary(tmp_path_);
+    throw std::runtime_error(path_ + ": cannot write (" + std::strerror(err) + ")");
+  }
 }
 
 AtomicFile::~AtomicFile() {
   if (file_) std::fclose(file_);
-  if (!committed_) std::remove(tmp_path_.c_str());
+  if (!committed_) {
+    std::remove(tmp_path_.c_str());
+    forgetTemporary(tmp_path_);
+  }
 }
 
 void AtomicFile::commit() {
@@ -40,6 +51,7 @@ void AtomicFile::commit() {
   if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
     throw std::runtime_error(path_ + ": cannot rename the finished file into place (" + std::strerror(errno) + ")");
   committed_ = true;
+  forgetTemporary(tmp_path_);
 }
 
 void writeFileAtomically(const std::string& path, const std::string& text) {

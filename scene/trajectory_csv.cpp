@@ -18,19 +18,38 @@ TrajectoryLayout trajectoryLayout(const Scene& scene) {
   return layout;
 }
 
+std::vector<std::string> trajectoryHeader(const TrajectoryLayout& layout) {
+  std::vector<std::string> names = {"t"};
+  for (const std::string& c : layout.coordinates) names.push_back("q." + c);
+  for (const std::string& c : layout.coordinates) names.push_back("v." + c);
+  for (const std::string& c : layout.inputs) names.push_back("u." + c);
+  for (const TrajectoryLayout::ContactColumns& c : layout.contacts) {
+    const std::string p = "contact." + c.name + ".";
+    auto tangential = [&](const std::string& name) {
+      if (c.spatial) {
+        names.push_back(p + name + "1");
+        names.push_back(p + name + "2");
+      } else {
+        names.push_back(p + name);
+      }
+    };
+    names.push_back(p + "gap");
+    names.push_back(p + "vn");
+    tangential("vt");
+    if (layout.forces) {
+      names.push_back(p + "rn");
+      tangential("rt");
+    }
+    names.push_back(p + "pn");
+    tangential("pt");
+  }
+  return names;
+}
+
 TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path, TrajectoryLayout layout)
     : file_(path), layout_(std::move(layout)) {
-  std::string header = "t";
-  for (const std::string& c : layout_.coordinates) header += ",q." + c;
-  for (const std::string& c : layout_.coordinates) header += ",v." + c;
-  for (const std::string& c : layout_.inputs) header += ",u." + c;
-  for (const TrajectoryLayout::ContactColumns& c : layout_.contacts) {
-    const std::string p = ",contact." + c.name + ".";
-    auto tangential = [&](const std::string& name) { return c.spatial ? p + name + "1" + p + name + "2" : p + name; };
-    header += p + "gap" + p + "vn" + tangential("vt");
-    if (layout_.forces) header += p + "rn" + tangential("rt");
-    header += p + "pn" + tangential("pt");
-  }
+  std::string header;
+  for (const std::string& name : trajectoryHeader(layout_)) header += (header.empty() ? "" : ",") + name;
   std::fprintf(file_.stream(), "%s\n", header.c_str());
 }
 

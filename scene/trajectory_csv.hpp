@@ -38,6 +38,9 @@ struct TrajectoryLayout {
 // The scene's coordinates and contacts (then its limit stops), no inputs, no force columns.
 TrajectoryLayout trajectoryLayout(const Scene& scene);
 
+// The header's column names, in order.
+std::vector<std::string> trajectoryHeader(const TrajectoryLayout& layout);
+
 // One contact's values in a row (the tangential ones along the surface's tangents; the second
 // of each pair is written for spatial contacts only, rn and rt only with force columns).
 struct ContactRow {

@@ -31,6 +31,8 @@ import argparse
 import csv
 import math
 import os
+import signal
+import socket
 import sys
 import textwrap
 
@@ -62,7 +64,8 @@ def number(text):
 
 def save(fig, png, svg):
     for path, fmt in ((png, "png"), (svg, "svg")):
-        tmp = "%s.tmp-%d" % (path, os.getpid())
+        # the temporary name saltus uses, so that a stale one is recognised and removed
+        tmp = "%s.tmp-%d@%s" % (path, os.getpid(), socket.gethostname())
         try:
             fig.savefig(tmp, format=fmt, dpi=130, bbox_inches="tight")
             os.replace(tmp, path)
@@ -530,6 +533,8 @@ def main():
         if name == "trajectory":
             p.add_argument("--title", help="chart title (default: the CSV's directory name)")
     args = parser.parse_args()
+    # SIGTERM (saltus stopping its children) unwinds like Ctrl-C, so save() removes its temporary
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     try:
         KINDS[args.kind](args)
     except SystemExit:

@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 namespace {
 
 volatile sig_atomic_t g_interrupted = 0;
-void onSignal(int) { g_interrupted = 1; }
+void onSignal(int signal) { g_interrupted = signal; }
 
 // Installs SIGINT/SIGTERM handlers without SA_RESTART (so waitpid returns on a signal) and
 // restores the previous ones on destruction.
@@ -299,6 +299,7 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
   }
   if (g_interrupted) {
     result.interrupted = true;
+    result.signal = g_interrupted;
     stopAll();
   }
   result.records = readRecords(out, cases);

@@ -35,6 +35,7 @@ struct Progress {
 struct RunResult {
   std::vector<SweepRecord> records;  // every case with a record, in the grid's order
   bool interrupted = false;
+  int signal = 0;  // the signal that interrupted it (SIGINT, SIGTERM)
   int ran = 0;  // solves run by this call
 };
 

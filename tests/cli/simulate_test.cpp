@@ -201,6 +201,38 @@ TEST(SimulateErrors, BadOptionsNameTheOption) {
   expectError(dir, {"simulate", "no_such_scene", "--out", out}, 1, {"no_such_scene", "ball_drop"});
 }
 
+TEST(SimulateErrors, SizesAreCheckedBeforeTheRun) {
+  const TempDir dir("sizes");
+  const std::string out = dir / "t.csv";
+  // 1e9 rows: refused at once with the estimate, not written at disk speed
+  expectError(dir, {"simulate", "ball_drop", "--duration", "1e6", "--out", out}, 2,
+              {"--duration", "MB", "--max-output-mb 1000", "--every"});
+  expectError(dir, {"simulate", "ball_drop", "--dt", "10", "--out", out}, 2, {"--dt", "longer than the duration 3 s"});
+  expectError(dir, {"simulate", "ball_drop", "--sample-dt", "0.0015", "--out", out}, 2, {"--sample-dt", "whole multiple"});
+  expectError(dir, {"simulate", "ball_drop", "--every", "0", "--out", out}, 2, {"--every"});
+  expectError(dir, {"simulate", "ball_drop", "--max-output-mb", "-1", "--out", out}, 2, {"--max-output-mb"});
+}
+
+TEST(Simulate, EveryNthStepIsWrittenWithTheLast) {
+  const TempDir dir("every");
+  const auto full = runSaltus({"simulate", "ball_drop", "--duration", "0.1005", "--out", dir / "all.csv"});
+  const auto every = runSaltus({"simulate", "ball_drop", "--duration", "0.1005", "--every", "10", "--out", dir / "10.csv"});
+  const auto sampled =
+      runSaltus({"simulate", "ball_drop", "--duration", "0.1005", "--sample-dt", "0.01", "--out", dir / "s.csv"});
+  ASSERT_EQ(full.status, 0) << full.err;
+  ASSERT_EQ(every.status, 0) << every.err;
+  ASSERT_EQ(sampled.status, 0) << sampled.err;
+  std::vector<std::string> all, kept;
+  std::istringstream a(readFile(dir / "all.csv")), k(readFile(dir / "10.csv"));
+  for (std::string line; std::getline(a, line);) all.push_back(line);
+  for (std::string line; std::getline(k, line);) kept.push_back(line);
+  ASSERT_EQ(all.size(), 1u + 1u + 101u);  // header, t = 0, 101 steps
+  ASSERT_EQ(kept.size(), 1u + 1u + 10u + 1u);  // header, t = 0, steps 10 … 100, the last (101)
+  for (std::size_t i = 0; i + 1 < kept.size(); ++i) EXPECT_EQ(kept[i], all[i == 0 ? 0 : 1 + 10 * (i - 1)]);
+  EXPECT_EQ(kept.back(), all.back());
+  EXPECT_EQ(readFile(dir / "s.csv"), readFile(dir / "10.csv"));  // 0.01 s = 10 steps of 1 ms
+}
+
 TEST(SimulateErrors, SimulationErrorLeavesNoFile) {
   // PGS does not converge on the paradoxical rod at μ = 5 (measured: t ≈ 0.78 s).
   const TempDir dir("lcpfail");

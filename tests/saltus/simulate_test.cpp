@@ -119,6 +119,32 @@ TEST(ApiSimulate, BadOptionsAreRefusedNamingTheField) {
   EXPECT_NE(invalidArgument([&] { saltus::simulate(scene, options); }).find("too many steps"), std::string::npos);
 }
 
+TEST(ApiSimulate, TheSizeIsKnownBeforeTheRun) {
+  const saltus::scene::Scene scene = saltus::loadScene("pendulum_conveyor", {});
+  saltus::SimulateOptions options;
+  options.duration = 2;
+  options.every = 7;
+  const saltus::Simulation run = saltus::simulate(scene, options);
+  EXPECT_EQ(run.t.size(), saltus::sampleCount(scene, options));
+  EXPECT_EQ(run.t.size(), 1 + 286);  // t = 0, steps 7, 14, … 1995, and 2000
+  EXPECT_NEAR(run.t[1], 7e-3, 1e-12);
+  EXPECT_NEAR(run.t[run.t.size() - 1], 2.0, 1e-9);
+  // the estimate is within 25 % of the file written
+  const fs::path csv = fs::temp_directory_path() / ("saltus_api_size_" + std::to_string(::getpid()) + ".csv");
+  saltus::writeTrajectoryCsv(csv.string(), run);
+  const double ratio = static_cast<double>(fs::file_size(csv)) / saltus::csvBytesEstimate(scene, options);
+  fs::remove(csv);
+  EXPECT_GT(ratio, 0.75);
+  EXPECT_LT(ratio, 1.25);
+  // a step longer than the run, and arrays beyond the memory limit, are refused before running
+  options.dt = 3;
+  EXPECT_NE(invalidArgument([&] { saltus::simulate(scene, options); }).find("longer than the duration"), std::string::npos);
+  options.dt = 1e-3;
+  options.every = 1;
+  options.duration = 1e7;
+  EXPECT_NE(invalidArgument([&] { saltus::simulate(scene, options); }).find("GB of memory"), std::string::npos);
+}
+
 TEST(ApiSimulate, StepCountCoversTheDuration) {
   EXPECT_EQ(saltus::stepCount(1.0, 1e-3), 1000);  // 1/1e-3 is 1000 up to round-off
   EXPECT_EQ(saltus::stepCount(1.0005, 1e-3), 1001);
