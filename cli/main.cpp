@@ -52,6 +52,29 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ConversionError& e) {
+    // CLI11 says "Could not convert: --seed = -1"; say what was expected.
+    std::string command = "saltus", message = e.what();
+    const std::string prefix = "Could not convert: ";
+    const std::size_t eq = message.find(" = ");
+    if (message.rfind(prefix, 0) == 0 && eq != std::string::npos) {
+      const std::string name = message.substr(prefix.size(), eq - prefix.size());
+      const std::string value = message.substr(eq + 3);
+      std::string type;
+      for (const cli::Command& c : commands) {
+        if (!c.app->parsed()) continue;
+        command = "saltus " + c.app->get_name();
+        for (const CLI::Option* o : c.app->get_options())
+          if (o->check_name(name)) type = o->get_type_name();
+      }
+      const std::string expected = type == "UINT"    ? "a whole number of 0 or more"
+                                   : type == "INT"   ? "a whole number"
+                                   : type == "FLOAT" ? "a number"
+                                                     : "a value of type " + type;
+      message = name + ": expected " + expected + ", got '" + value + "'";
+    }
+    std::cerr << "saltus: " << message << "\nRun '" << command << " --help' for usage.\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
     std::string help = "saltus --help";

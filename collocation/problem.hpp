@@ -141,4 +141,9 @@ scene::Scene sceneAtMeshTimes(const Problem& problem, const std::vector<double>&
 // (std::invalid_argument naming where the condition was given).
 void remesh(Problem& problem, int N, int P);
 
+// Size limits, checked before anything is allocated: elements (the paper's problems use 25 to 40;
+// 10,000 is a transcription of millions of variables), first-order steps per element.
+constexpr int kMaxElements = 10000;
+constexpr int kMaxStepsPerElement = 1000;
+
 }  // namespace saltus::collocation

@@ -141,7 +141,9 @@ void ProblemReader::readMesh(const YAML::Node& node) {
   r_.checkMap(node, "mesh", {"N", "P", "h_max", "h_min_ratio", "total_time", "first_order_steps_per_element"});
   const YAML::Node n = r_.required(node, "mesh", "N");
   p_.N = r_.integer(n, "mesh.N");
-  if (p_.N < 1) r_.fail(n, "mesh.N", "the number of finite elements must be at least 1, got " + std::to_string(p_.N));
+  if (p_.N < 1 || p_.N > kMaxElements)
+    r_.fail(n, "mesh.N", "the number of finite elements must be from 1 to " + std::to_string(kMaxElements) + ", got " +
+                             std::to_string(p_.N));
   if (node["P"].IsDefined()) {
     p_.P = r_.integer(node["P"], "mesh.P");
     if (p_.P < 1 || p_.P > 9)
@@ -158,9 +160,10 @@ void ProblemReader::readMesh(const YAML::Node& node) {
   if (node["first_order_steps_per_element"].IsDefined()) {
     const YAML::Node s = node["first_order_steps_per_element"];
     p_.first_order_steps_per_element = r_.integer(s, "mesh.first_order_steps_per_element");
-    if (p_.first_order_steps_per_element < 1)
+    if (p_.first_order_steps_per_element < 1 || p_.first_order_steps_per_element > kMaxStepsPerElement)
       r_.fail(s, "mesh.first_order_steps_per_element",
-              "expected an integer of at least 1, got " + std::to_string(p_.first_order_steps_per_element));
+              "expected an integer from 1 to " + std::to_string(kMaxStepsPerElement) + ", got " +
+                  std::to_string(p_.first_order_steps_per_element));
   }
 
   const YAML::Node t = node["total_time"];

@@ -16,8 +16,9 @@ using namespace saltus::collocation;
 Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   if (options.P && (*options.P < 1 || *options.P > 9))
     throw std::invalid_argument("P: expected an order from 1 to 9, got " + std::to_string(*options.P));
-  if (options.N && *options.N < 1)
-    throw std::invalid_argument("N: expected at least 1 element, got " + std::to_string(*options.N));
+  if (options.N && (*options.N < 1 || *options.N > collocation::kMaxElements))
+    throw std::invalid_argument("N: expected from 1 to " + std::to_string(collocation::kMaxElements) +
+                                " elements, got " + std::to_string(*options.N));
   if (options.P || options.N) {
     try {
       remesh(problem, options.N.value_or(problem.N), options.P.value_or(problem.P));

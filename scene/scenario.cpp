@@ -253,7 +253,15 @@ Eigen::VectorXd Loader::readCoordinateMap(const YAML::Node& node, const std::str
   if (node.IsNull()) return x;
   for (auto it = node.begin(); it != node.end(); ++it) {
     const std::string p = keyPath(path, it->first.Scalar());
-    x[coordinate(it->first, p, model)] = r_.number(it->second, p);
+    const int k = coordinate(it->first, p, model);
+    x[k] = r_.number(it->second, p);
+    const double limit = path == "initial.q" ? kMaxPosition : kMaxRate;
+    if (std::abs(x[k]) > limit)
+      r_.fail(it->second, p, "expected at most " + fmt(limit) + " in magnitude (" +
+                                 (path == "initial.q" ? std::string(model.isTranslation(k) ? "m" : "rad")
+                                  : path == "initial.v" ? std::string(model.isTranslation(k) ? "m/s" : "rad/s")
+                                                        : std::string(model.isTranslation(k) ? "N" : "N m")) +
+                                 "), got " + fmt(x[k]));
   }
   return x;
 }
@@ -413,6 +421,10 @@ std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& s
              "a friction cone needs at least 2 directions (2 for planar motion, 4 or more in space), got " +
                  std::to_string(ct.directions));
       if (ct.directions < 0) r_.fail(c["directions"], keyPath(p, "directions"), "directions must be non-negative");
+      if (ct.directions > kMaxDirections)
+        r_.fail(c["directions"], keyPath(p, "directions"),
+                "expected at most " + std::to_string(kMaxDirections) + " directions (a cone of 64 is within 0.12 % of "
+                "the circular one), got " + std::to_string(ct.directions));
     } else {
       ct.directions = planar ? 2 : 4;
     }
@@ -474,6 +486,12 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
     }
   }
   const Eigen::Vector3d gravity = r_.vec3(root, "", "gravity", Eigen::Vector3d(0, 0, -9.81));
+  // Plausibility limits (README, "Scenario files"): far beyond any robot, short of where products
+  // of the values overflow or swamp the solvers' tolerances.
+  if (gravity.stableNorm() > kMaxGravity)
+    r_.fail(root["gravity"], "gravity", "expected an acceleration of at most " + fmt(kMaxGravity) +
+                                            " m/s^2 in magnitude (about 100 g), got " + fmt(gravity) + " (magnitude " +
+                                            fmt(gravity.stableNorm()) + ")");
   scene.model = readModel(r_.required(root, "", "model"), base, gravity, base_node);
 
   const YAML::Node initial = root["initial"];
@@ -481,6 +499,8 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
   if (initial.IsDefined()) r_.checkMap(initial, "initial", {"q", "v"}, true);
   scene.q0 = readCoordinateMap(has_initial ? initial["q"] : YAML::Node(), "initial.q", scene.model);
   scene.v0 = readCoordinateMap(has_initial ? initial["v"] : YAML::Node(), "initial.v", scene.model);
+  scene.initial_location = has_initial ? location(r_.file(), initial.Mark()) + ": initial"
+                                       : r_.file() + ": initial state (every coordinate 0)";
   scene.tau = readCoordinateMap(root["input"], "input", scene.model);
 
   scene.surfaces = readSurfaces(root["surfaces"]);

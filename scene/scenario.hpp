@@ -20,6 +20,13 @@
 
 namespace saltus::scene {
 
+// Plausibility limits of a scenario's numbers, far beyond any robot and short of where products
+// of them overflow or swamp the solvers' tolerances: |gravity| [m/s²], each initial coordinate
+// [m or rad], each initial velocity [m/s or rad/s] and input [N or N m].
+constexpr double kMaxGravity = 1e3;
+constexpr double kMaxPosition = 1e6;
+constexpr double kMaxRate = 1e5;
+constexpr int kMaxDirections = 64;  // friction directions of a contact
 
 // Loads a scenario by built-in name (models/scenes/<name>.yaml in the directory
 // scenesDirectory() returns) or by file path (anything containing '/' or ending in .yaml/.yml,

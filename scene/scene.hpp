@@ -127,6 +127,7 @@ struct Scene {
   std::vector<Contact> contacts;
   std::vector<LimitStop> limits;
   Eigen::VectorXd q0, v0;     // initial state (model coordinate order)
+  std::string initial_location;  // where the initial state was read ("file:line:column: initial"); empty: built in C++
   Eigen::VectorXd tau;        // constant generalised input (zero when the scene has none)
   double duration = 1.0;      // default simulated time [s]
   std::map<std::string, double> parameters;  // the values used, after --set overrides

@@ -133,7 +133,17 @@ bool plainNumber(const std::string& s, double& x) {
 
 YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   try {
-    if (!std::filesystem::is_regular_file(path)) throw ScenarioError(path + ": cannot open the " + what + ": no such file");
+    std::error_code error;
+    const auto status = std::filesystem::status(path, error);
+    if (std::filesystem::is_directory(status))
+      throw ScenarioError(path + ": is a folder; expected a " + what + " (YAML)");
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+      throw ScenarioError(path + ": is not a regular file; expected a " + what + " (YAML)");
+    if (!std::filesystem::exists(status)) throw ScenarioError(path + ": cannot open the " + what + ": no such file");
+    // Size before reading: yaml-cpp holds the whole tree in memory, several times the text.
+    if (std::filesystem::file_size(path, error) > kMaxYamlBytes)
+      throw ScenarioError(path + ": " + std::to_string(std::filesystem::file_size(path, error)) +
+                          " bytes; expected a " + what + " of at most " + std::to_string(kMaxYamlBytes) + " bytes");
     // One document: a second one (after '---') would be silently ignored.
     const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
     if (documents.size() > 1)

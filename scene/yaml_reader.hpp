@@ -5,6 +5,7 @@
 //   models/scenes/x.yaml:14:15: contacts[1].surface: unknown surface 'blet'; surfaces: ground, belt
 #pragma once
 
+#include <cstdint>
 #include <muParser.h>
 #include <yaml-cpp/yaml.h>
 
@@ -35,6 +36,7 @@ std::string suggestion(const std::string& word, const std::vector<std::string>& 
 
 // Parses the file; a missing file or a YAML syntax error is a ScenarioError naming the file
 // (and the line of the syntax error).
+constexpr std::uintmax_t kMaxYamlBytes = 16u << 20;  // 16 MiB: a scenario or problem file is a few KB
 YAML::Node loadYamlFile(const std::string& path, const std::string& what = "scenario file");
 
 // Built-in files: a name stands for <directory>/<name>.yaml; anything containing '/' or ending in

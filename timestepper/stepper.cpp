@@ -1,5 +1,7 @@
 #include "timestepper/stepper.hpp"
 
+#include "contact/initial_state.hpp"
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -70,6 +72,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   const int nv = scene_.model.nv();
   if (!(options_.dt > 0)) throw std::invalid_argument("time step must be positive");
   if (options_.theta < 0.5 || options_.theta > 1) throw std::invalid_argument("theta must lie in [0.5, 1]");
+  contact::checkInitialState(scene_, scene_.initial_location.empty() ? scene_.name : scene_.initial_location);
   pairs_ = contact::contactPairs(scene_);
   int f_max = 0, lambda_max = 0;
   for (const contact::ContactPair& p : pairs_) {
@@ -331,7 +334,7 @@ bool TimeStepper::measureContacts() {
     r.over_plane = contact::withinExtent(pair, data_);
     if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+    if (!pair.isStop()) stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);  // metres only
   }
   return penetrating;
 }

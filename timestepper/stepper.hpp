@@ -123,7 +123,7 @@ struct StepperStats {
   long lcp_warm_solves = 0;    // Lemke: contact LCPs solved by the previous step's basis, no pivot
   long located_impacts = 0;    // steps split at an estimated time of impact (locate_impacts)
   int max_lcp_size = 0;
-  double max_penetration = 0;  // largest −gap seen after a step (before projection) [m]
+  double max_penetration = 0;  // largest −gap of a point contact after a step (before projection) [m]
   double max_lcp_residual = 0;
 };
 

@@ -572,3 +572,23 @@ TEST(Stepper, LocatedImpactOnAJointLimitStop) {
 
 }  // namespace
 }  // namespace saltus::timestepper
+
+namespace saltus::timestepper {
+namespace {
+
+// An initial state inside a surface is refused before any step, naming the file, the line of the
+// initial state, the contact and the depth (contact/initial_state.hpp).
+TEST(StepperInitialState, AStateInsideASurfaceIsRefusedWithItsLocation) {
+  const scene::Scene s = scene::loadScene("ball_drop", {{"height", -1}});
+  std::string message = "(no error)";
+  try {
+    TimeStepper stepper(s, StepperOptions{});
+  } catch (const std::invalid_argument& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("ball_drop.yaml:"), std::string::npos) << message;
+  EXPECT_NE(message.find(": initial: contact 'ball' starts 1 m inside surface 'ground'"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace saltus::timestepper
