@@ -50,6 +50,16 @@ int main(int argc, char** argv) {
     }
   }
 
+  // An empty value ("--N ''", "--seed-kind=") would be taken as the default by CLI11: refused.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool empty_next = a.size() > 1 && a[0] == '-' && a.find('=') == std::string::npos && i + 1 < argc && argv[i + 1][0] == '\0';
+    if ((a.rfind("--", 0) == 0 && a.back() == '=') || empty_next) {
+      std::cerr << "saltus: " << a.substr(0, a.find('=')) << ": expected a value, got an empty string\n"
+                << "Run 'saltus --help' for usage.\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ConversionError& e) {

@@ -9,7 +9,12 @@
 #include <iostream>
 #include <optional>
 
+#include "cli/optimize.hpp"
+
+#include <memory>
+
 #include "cli/common.hpp"
+#include "scene/cleanup.hpp"
 #include "cli/simulation.hpp"
 #include "saltus/saltus.hpp"
 
@@ -20,24 +25,10 @@ namespace {
 using namespace saltus::collocation;
 namespace fs = std::filesystem;
 
-struct OptimizeCliOptions {
-  std::string problem;
-  std::string method = "impulsive";
-  std::optional<int> P, N;
-  std::optional<unsigned> seed;
-  std::string seed_kind;
-  std::string seed_from;
-  std::optional<double> seed_scale;
-  std::optional<int> restarts;
-  std::optional<double> tighten_within;
-  std::vector<std::string> set, ipopt;
-  std::string hessian;
-  int print_level = 0;
-  bool derivative_check = false;
-  std::string out;
-};
 
-int optimizeCommand(const OptimizeCliOptions& opt) {
+}  // namespace
+
+OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   Method method;
   try {
     method = parseMethod(opt.method);
@@ -48,10 +39,19 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
   for (const std::string& a : opt.ipopt) {
     const auto eq = a.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError("--ipopt '" + a + "': expected name=value, e.g. --ipopt max_iter=500");
-    ipopt[a.substr(0, eq)] = a.substr(eq + 1);
+    const std::string name = a.substr(0, eq), value = a.substr(eq + 1);
+    if (name == "hessian_approximation") throw UsageError("--ipopt " + a + ": set this through --hessian instead");
+    if (name == "derivative_test") throw UsageError("--ipopt " + a + ": set this through --derivative-check instead");
+    try {
+      checkIpoptOption(name, value);
+    } catch (const IpoptOptionError& e) {
+      throw UsageError("--ipopt " + a + ": " + e.what());
+    }
+    ipopt[name] = value;
   }
-  const Problem problem = loadProblem(opt.problem, parseSetOptions(opt.set));
-  OptimizeOptions options;
+  OptimizeCall call{loadProblem(opt.problem, parseSetOptions(opt.set)), {}};
+  const Problem& problem = call.problem;
+  OptimizeOptions& options = call.options;
   options.method = method;
   options.N = opt.N;
   options.P = opt.P;
@@ -86,8 +86,38 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
   } catch (const std::invalid_argument& e) {
     throw optionError(e);
   }
+  return call;
+}
+
+namespace {
+
+int optimizeCommand(const OptimizeCliOptions& opt) {
+  const OptimizeCall call = prepareOptimize(opt);
+  const Problem& problem = call.problem;
+  const OptimizeOptions& options = call.options;
+  const Method method = options.method;
+  // The folder is checked writable before the solve (a probe file), not after minutes of it; a
+  // folder made here goes again if the run is interrupted or fails.
+  std::unique_ptr<scene::ScopedTemporary> made;
+  std::error_code error;
+  if (!fs::exists(opt.out, error)) {
+    const fs::path first = [&] {
+      fs::path p = fs::absolute(opt.out).lexically_normal(), missing = p;
+      while (!p.empty() && !fs::exists(p, error) && p != p.parent_path()) missing = p, p = p.parent_path();
+      return missing;
+    }();
+    made = std::make_unique<scene::ScopedTemporary>(first.string());
+    fs::create_directories(opt.out, error);
+    if (error) throw UsageError("--out " + opt.out + ": cannot create the folder (" + error.message() + ")");
+  }
+  try {
+    scene::AtomicFile probe((fs::path(opt.out) / "summary.json").string());
+  } catch (const std::exception& e) {
+    throw UsageError(std::string("--out: ") + e.what());
+  }
   const OptimizeResult o = saltus::optimize(problem, options);  // refuses what the method cannot represent
   saveSolution(opt.out, o);
+  if (made) made->keep();
 
   const SolveReport& r = o.report;
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "

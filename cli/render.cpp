@@ -70,6 +70,7 @@ int renderCommand(const RenderCliOptions& opt) {
     if (opt.scene || !opt.set.empty())
       throw UsageError("--scene/--set: not used with a 'saltus optimize' directory (its summary.json names the scene)");
     trajectory = openSolution(opt.input);
+    if (!trajectory.problem_changed.empty()) std::cerr << "saltus render: warning: " << trajectory.problem_changed << "\n";
   } else {
     if (!opt.scene) throw UsageError("--scene: required with a trajectory CSV (the scene it was simulated in)");
     trajectory = openTrajectoryCsv(opt.input, scene::loadScene(*opt.scene, parseSetOptions(opt.set)));

@@ -84,6 +84,7 @@ int replayCommand(const ReplayCliOptions& opt) {
 
   // The solution.
   const collocation::SavedSolution solution = collocation::loadSolution(opt.dir);
+  if (!solution.problem_changed.empty()) std::cerr << "saltus replay: warning: " << solution.problem_changed << "\n";
   const int nu = static_cast<int>(solution.problem->inputs.size());
   if (!opt.input_offset.empty()) {
     if (nu == 0) throw UsageError("--input-offset: the problem has no inputs");

@@ -33,6 +33,7 @@
 #include <optional>
 
 #include "cli/common.hpp"
+#include "cli/optimize.hpp"
 #include "cli/run_pipeline.hpp"
 #include "scene/cleanup.hpp"
 #include "cli/simulation.hpp"
@@ -201,6 +202,16 @@ void runRenderStep(PipelineStep& render, const RunFolders& f, double first_impul
 
 int run(const RunOptions& opt) {
   checkRunOptions(opt);
+  // The optimize step's options and the problem, checked before anything is created.
+  OptimizeCliOptions optimize_options;
+  optimize_options.problem = opt.problem;
+  if (!opt.method.empty()) optimize_options.method = opt.method;
+  optimize_options.seed = opt.seed;
+  optimize_options.N = opt.N;
+  optimize_options.P = opt.P;
+  optimize_options.set = opt.set;
+  optimize_options.ipopt = opt.ipopt;
+  prepareOptimize(optimize_options);
   RunFacts facts;
   facts.problem_word = fs::path(opt.problem).stem().string();
   facts.fps = opt.fps;
@@ -214,6 +225,9 @@ int run(const RunOptions& opt) {
   // that nothing stale is reported.
   for (const char* sub : {"optimize", "replay", "render", "charts", "logs"}) fs::remove_all(f.dir / sub);
   fs::remove(f.dir / "report.md");
+  // A folder made by this run goes again if the run is interrupted before its report.
+  std::unique_ptr<scene::ScopedTemporary> made;
+  if (!fs::exists(f.dir, error)) made = std::make_unique<scene::ScopedTemporary>(f.dir.string());
   fs::create_directories(f.dir / "logs");
   const std::string saltus = thisProgram();
 
@@ -279,6 +293,7 @@ int run(const RunOptions& opt) {
 
   const bool all_ok = facts.feasible && steps.allOk();
   writeFileAtomically((f.dir / "report.md").string(), runReport(f, facts, steps));
+  if (made) made->keep();
   std::cerr << "saltus run: " << (all_ok ? "done" : "FAILED") << ": " << (f.dir / "report.md").string() << "\n";
   return all_ok ? 0 : 1;
 }

@@ -1,7 +1,13 @@
 #include "collocation/problem_file.hpp"
 
+#include "collocation/solver.hpp"
+
 
 #include <algorithm>
+#include <cstdint>
+#include <sstream>
+#include <fstream>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -472,6 +478,11 @@ void ProblemReader::readIpopt(const YAML::Node& node) {
       r_.fail(it->first, path, "set this through " + o->second + " instead");
     if (!it->second.IsScalar())
       r_.fail(it->second, path, "expected the option's value (a number or a word), got " + describe(it->second));
+    try {
+      checkIpoptOption(name, it->second.Scalar());
+    } catch (const IpoptOptionError& e) {
+      r_.fail(it->first, path, e.what());
+    }
     p_.ipopt_options[name] = it->second.Scalar();
   }
 }
@@ -519,6 +530,39 @@ std::vector<std::string> builtinProblemNames() {
   return scene::yamlFileNames(problemsDirectory());
 }
 
+namespace {
+
+// FNV-1a, 64 bits: a fingerprint, not a defence against a forger.
+void fnv1a(std::uint64_t& h, const std::string& bytes) {
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+}
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The problem file's bytes, the model file's (a URDF it reads) and the parameter values.
+std::string problemFingerprint(const std::string& path, const Problem& problem) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  fnv1a(h, fileBytes(path));
+  const std::string& model = problem.scene.model.source;
+  std::error_code error;
+  if (!model.empty() && std::filesystem::is_regular_file(model, error)) fnv1a(h, fileBytes(model));
+  for (const auto& [name, value] : problem.parameters) {
+    char text[64];
+    std::snprintf(text, sizeof text, "=%.17g;", value);
+    fnv1a(h, name + text);
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+}  // namespace
+
 Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
   const auto [path, source] = scene::resolveYamlFile(name_or_path, problemsDirectory(), "problem", "problem file");
   const YAML::Node root = scene::loadYamlFile(path, "problem file");
@@ -543,6 +587,7 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
   } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
     throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
   }
+  problem.fingerprint = problemFingerprint(path, problem);
   return problem;
 }
 

@@ -65,6 +65,7 @@ void writeSolution(const std::string& dir, const Transcription& t, const Eigen::
       << "# source: " << sourceForFile(p.source) << "\n"
       << "# method: " << toString(t.method()) << "\n"
       << "# N: " << p.N << "\n# P: " << p.P << "\n";
+  if (!p.fingerprint.empty()) out << "# problem_fingerprint: " << p.fingerprint << "\n";
   for (const auto& [name, value] : p.parameters) out << "# parameter." << name << ": " << value << "\n";
   out << "name,value\n";
   for (int i = 0; i < t.variables(); ++i) out << t.variableNames()[i] << "," << x[i] << "\n";
@@ -114,6 +115,10 @@ SavedSolution loadSolution(const std::string& path) {
   std::string source = keys["source"];
   if (source.rfind(kBuiltinPrefix, 0) == 0) source = source.substr(std::string(kBuiltinPrefix).size());
   s.problem = std::make_unique<Problem>(loadProblem(source, parameters));
+  if (keys.count("problem_fingerprint") && keys["problem_fingerprint"] != s.problem->fingerprint)
+    s.problem_changed = "the problem " + keys["source"] + " (or its model file) changed since this solution was saved " +
+                        "(fingerprint " + keys["problem_fingerprint"] + ", now " + s.problem->fingerprint +
+                        "): the results use the problem as it is now";
   Method method;
   try {
     method = parseMethod(keys["method"]);

@@ -39,6 +39,9 @@ struct SavedSolution {
   std::unique_ptr<Problem> problem;              // rebuilt from source + parameters, remeshed to N, P
   std::unique_ptr<Transcription> transcription;  // refers to *problem
   Eigen::VectorXd x;
+  // Not empty when the problem file, its model file or the parameters no longer give the
+  // fingerprint saved with the solution: what changed, to be shown to the user.
+  std::string problem_changed;
   CollocationTrajectory trajectory() const { return CollocationTrajectory(*transcription, x); }
 };
 

@@ -75,6 +75,19 @@ void setOption(Ipopt::IpoptApplication& app, const std::string& name, const std:
                            ")");
 }
 
+}  // namespace
+
+void checkIpoptOption(const std::string& name, const std::string& value) {
+  static const Ipopt::SmartPtr<Ipopt::IpoptApplication> app = [] {
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> a = IpoptApplicationFactory();
+    a->Options()->SetIntegerValue("print_level", 0);
+    return a;
+  }();
+  setOption(*app, name, value);
+}
+
+namespace {
+
 StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
                      const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
                      SolveReport& report, const char* name = nullptr) {

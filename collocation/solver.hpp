@@ -93,6 +93,11 @@ class IpoptOptionError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// Checks an Ipopt option against Ipopt's registered options before any solve: the name exists and
+// the value has its type (and, for a name-valued option, is one of its names). Throws
+// IpoptOptionError.
+void checkIpoptOption(const std::string& name, const std::string& value);
+
 // One attempt from x0 (options.restarts is ignored).
 SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const SolveOptions& options);
 // Up to 1 + options.restarts attempts, from seed(0), seed(1), …, until one is feasible; the

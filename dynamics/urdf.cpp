@@ -1,5 +1,6 @@
 #include "dynamics/urdf.hpp"
 
+#include <filesystem>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -295,6 +296,8 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
 // geometry, mesh; gazebo extensions a few more); TinyXML, under urdfdom, parses recursively and
 // overflows the stack near 10^5 levels, so a deeper file is refused before it is parsed.
 constexpr int kMaxXmlDepth = 100;
+// A URDF is kilobytes (meshes are separate files); read whole, so its size is bounded first.
+constexpr std::uintmax_t kMaxUrdfBytes = 64u << 20;
 
 // Refuses XML whose elements nest deeper than kMaxXmlDepth, naming the line: a scan of the tags
 // (comments, CDATA, processing instructions and declarations skipped; quoted attribute values
@@ -344,8 +347,62 @@ void checkXmlNesting(const std::string& xml, const std::string& source_name) {
   }
 }
 
+// Where urdfdom's complaint is, which it does not say: the line of the element it names
+// ("Link [a]", "joint [j]", a value "[nan]") and, for "element ixx is not …", the attribute after
+// it with its value as written. "file:LINE" (or the file alone when nothing is found) and a
+// suffix quoting the attribute.
+std::string urdfdomLocation(const std::string& xml, const std::string& source_name, const std::string& summary,
+                            std::string* quoted) {
+  std::size_t at = std::string::npos;
+  for (std::size_t open = summary.find('['); open != std::string::npos; open = summary.find('[', open + 1)) {
+    const std::size_t close = summary.find(']', open);
+    if (close == std::string::npos) break;
+    const std::string token = summary.substr(open + 1, close - open - 1);
+    if (token.empty()) continue;
+    for (const std::string& pattern : {"name=\"" + token + "\"", "\"" + token + "\""}) {
+      const std::size_t k = xml.find(pattern);
+      if (k != std::string::npos) {
+        at = k;
+        break;
+      }
+    }
+    if (at != std::string::npos) break;
+  }
+  const std::size_t element = summary.find("element ");
+  if (element != std::string::npos) {
+    const std::size_t end = summary.find(' ', element + 8);
+    const std::string attribute = summary.substr(element + 8, end == std::string::npos ? std::string::npos : end - element - 8);
+    const std::size_t k = xml.find(attribute + "=", at == std::string::npos ? 0 : at);
+    if (!attribute.empty() && k != std::string::npos) {
+      at = k;
+      const std::size_t q = k + attribute.size() + 1;
+      if (q < xml.size() && (xml[q] == '"' || xml[q] == '\'')) {
+        const std::size_t e = xml.find(xml[q], q + 1);
+        if (e != std::string::npos) *quoted = "; " + attribute + " is '" + xml.substr(q + 1, e - q - 1) + "'";
+      }
+    }
+  }
+  if (at == std::string::npos) return source_name;
+  return source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+// Text that is not XML at all: urdfdom would say only "Error document empty".
+void checkXmlText(const std::string& xml, const std::string& source_name) {
+  if (xml.find_first_not_of(" \t\r\n") == std::string::npos)
+    fail(source_name, "the file is empty; expected a URDF (<robot name=...> with links and joints)");
+  const std::size_t nul = xml.find('\0');
+  if (nul != std::string::npos)
+    fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(nul), '\n')),
+         "a NUL byte at offset " + std::to_string(nul) + ": binary content, expected a URDF (XML text)");
+  const std::size_t first = xml.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  if (xml[first] != '<')
+    fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(first), '\n')),
+         "expected a URDF (XML starting with '<'), got text starting with '" + xml.substr(first, 12) + "'");
+}
+
 ModelBuilder readUrdfString(const std::string& xml, const std::string& source_name) {
   // Parse with urdfdom; on failure explain a closed loop ourselves, then quote the parser.
+  checkXmlText(xml, source_name);
   checkXmlNesting(xml, source_name);
   std::vector<ParserMessage> messages;
   const urdf::ModelInterfaceSharedPtr urdf_model = parseWithUrdfdom(xml, messages);
@@ -354,12 +411,18 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
     if (!loop.empty())
       fail(source_name, "kinematic loop: links " + loop + " (child -> parent) close a circle, so "
                             "there is no root link (urdfdom: " + summarise(messages) + ")");
-    fail(source_name, "not a valid URDF (urdfdom: " + summarise(messages) + ")");
+    std::string quoted;
+    const std::string where = urdfdomLocation(xml, source_name, summarise(messages), &quoted);
+    fail(where, "not a valid URDF (urdfdom: " + summarise(messages) + ")" + quoted);
   }
   // urdfdom reports some bad elements (a box size of "1 nan 1") as errors and drops them,
   // returning the rest: what it could not read is refused too.
   for (const ParserMessage& m : messages)
-    if (m.level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) fail(source_name, "not a valid URDF (urdfdom: " + summarise(messages) + ")");
+    if (m.level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
+      std::string quoted;
+      const std::string where = urdfdomLocation(xml, source_name, summarise(messages), &quoted);
+      fail(where, "not a valid URDF (urdfdom: " + summarise(messages) + ")" + quoted);
+    }
 
   // urdfdom's links own their child links: a loop it accepts (beside the tree) would leak, so
   // drop that ownership once converted, also when conversion throws.
@@ -381,6 +444,14 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
 
 ModelBuilder readUrdfFile(const std::string& path) {
   // Read the whole file; a missing, unreadable or non-regular file is reported with errno's reason.
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (std::filesystem::is_directory(status)) fail(path, "is a folder; expected a URDF file");
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    fail(path, "is not a regular file (a device, a pipe); expected a URDF file");
+  if (std::filesystem::exists(status) && std::filesystem::file_size(path, error) > kMaxUrdfBytes)
+    fail(path, std::to_string(std::filesystem::file_size(path, error)) + " bytes; expected a URDF of at most " +
+                   std::to_string(kMaxUrdfBytes) + " bytes");
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) fail(path, std::string("cannot open the file: ") + std::strerror(errno));
   std::string xml;

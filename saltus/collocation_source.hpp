@@ -38,6 +38,8 @@ class CollocationSource : public render::TrajectorySource {
 
   // The scene the solution was computed in (Problem::scene of the rebuilt problem).
   const scene::Scene& scene() const { return solution_.problem->scene; }
+  // Not empty when the problem changed since the solve (collocation::SavedSolution).
+  const std::string& problemChanged() const { return solution_.problem_changed; }
   const collocation::CollocationTrajectory& trajectory() const { return trajectory_; }
 
  private:

@@ -56,6 +56,7 @@ RenderInput openSolution(const std::string& dir) {
     // The collocation polynomials between the points; the scene of the rebuilt problem.
     auto collocation = std::make_shared<const CollocationSource>(CollocationSource::load(dir));
     input.scene = collocation->scene();
+    input.problem_changed = collocation->problemChanged();
     input.trajectory = std::move(collocation);
   } else {  // an older output directory: straight lines between the CSV rows
     input.scene = sceneOfSolutionDirectory(path);

@@ -204,6 +204,7 @@ std::string writeReplay(const std::string& out_dir, const verify::ReplayResult& 
 struct RenderInput {
   scene::Scene scene;
   std::shared_ptr<const render::TrajectorySource> trajectory;
+  std::string problem_changed;  // a solution whose problem changed since the solve: what changed
 };
 // A saveSolution folder: through the collocation polynomials (a folder without
 // variables.csv: its trajectory.csv and the scene named by its summary.json).

@@ -1,6 +1,7 @@
 #include "scene/cleanup.hpp"
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -76,13 +78,15 @@ void stopGroup(pid_t pid) {
 [[noreturn]] void cleanUpAndExit(const std::string& program, int signal) {
   g_interrupting = true;
   registryMutex().lock();  // held until _exit
-  const std::size_t n_children = children().size();
-  for (pid_t pid : children()) stopGroup(pid);
+  // Temporaries first (a child stopped by force after its grace time cannot hold them up), then
+  // the children, which remove their own.
   std::size_t removed = 0;
   for (const std::string& path : temporaries()) {
     std::error_code error;
     removed += fs::remove_all(path, error) > 0;
   }
+  const std::size_t n_children = children().size();
+  for (pid_t pid : children()) stopGroup(pid);
   std::string message = program + ": interrupted by " + (signal == SIGINT ? "SIGINT" : "SIGTERM");
   if (n_children > 0) message += "; stopped " + std::to_string(n_children) + " child process" + (n_children > 1 ? "es" : "");
   if (removed > 0) message += "; removed " + std::to_string(removed) + " unfinished file" + (removed > 1 ? "s" : "");
@@ -146,12 +150,17 @@ void ScopedTemporary::keep() { keep_ = true; }
 pid_t spawnChild(const std::string& program, const std::vector<std::string>& arguments,
                  const std::vector<std::string>& environment, const posix_spawn_file_actions_t* actions) {
   std::vector<std::string> args = arguments, env = environment;
+  if (env.empty())
+    for (char** e = environ; e && *e; ++e) env.emplace_back(*e);
+  // A saltus child stops when this process dies, even by SIGKILL (installInterruptCleanup).
+  std::erase_if(env, [](const std::string& e) { return e.rfind("SALTUS_PARENT_PID=", 0) == 0; });
+  env.push_back("SALTUS_PARENT_PID=" + std::to_string(::getpid()));
   std::vector<char*> argv, envp;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   for (std::string& e : env) envp.push_back(e.data());
   envp.push_back(nullptr);
-  char** child_environment = env.empty() ? environ : envp.data();
+  char** child_environment = envp.data();
 
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
@@ -196,6 +205,11 @@ int waitChild(pid_t pid) {
 
 void installInterruptCleanup(const std::string& program) {
   if (g_signal_pipe[0] >= 0) return;
+  // Started by a saltus process (spawnChild): SIGTERM when it dies, however it dies.
+  if (const char* parent = std::getenv("SALTUS_PARENT_PID"); parent && *parent) {
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (std::to_string(::getppid()) != parent) ::raise(SIGTERM);  // it died before the line above
+  }
   if (::pipe2(g_signal_pipe, O_CLOEXEC) != 0) throw std::runtime_error("cannot create the signal pipe");
   // The work is done by a thread, outside the signal handler, where removing files is safe.
   std::thread([program] {

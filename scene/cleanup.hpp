@@ -42,7 +42,8 @@ class ScopedTemporary {
 };
 
 // Starts `program` (a path, or a name looked up in PATH) as the leader of a new process group with
-// the default dispositions of SIGINT, SIGTERM and SIGPIPE, and registers it, so that an interrupt
+// the default dispositions of SIGINT, SIGTERM and SIGPIPE and SALTUS_PARENT_PID set (a saltus
+// child stops when this process dies, even by SIGKILL), and registers it, so that an interrupt
 // stops it and everything it started. An empty `environment` passes this process's own;
 // `actions` may be null. Returns the pid; throws
 // std::runtime_error naming the program when it cannot be started.

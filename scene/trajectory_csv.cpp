@@ -146,6 +146,9 @@ TrajectoryTable readTrajectoryCsv(const std::string& path) {
     if (line.empty() || line == "\r") continue;
     const std::vector<std::string> fields = splitFields(line);
     const std::string where = path + ":" + std::to_string(line_no) + ": ";
+    if (line.find('\0') != std::string::npos)
+      throw std::runtime_error(where + "column '" + header[std::min(fields.size(), header.size()) - 1] +
+                               "' holds a NUL byte (binary content); expected text numbers");
     if (fields.size() != header.size())
       throw std::runtime_error(where + std::to_string(fields.size()) + " fields, the header has " +
                                std::to_string(header.size()));

@@ -1,4 +1,4 @@
-// An interrupted saltus command leaves nothing behind: SIGINT and SIGTERM during `simulate`,
+// An interrupted saltus command leaves nothing behind, and a refused one creates nothing: SIGINT and SIGTERM during `simulate`,
 // `render` (with its ffmpeg child) and `run` (with its child saltus) exit 130 / 143 with the
 // folder as it was before and no process left running; after a SIGKILL, the next run in the same
 // folder removes the stale temporary.
@@ -19,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include "saltus/build_paths.hpp"
 #include "tests/support/run_saltus.hpp"
 
 extern char** environ;
@@ -158,6 +159,65 @@ TEST_F(InterruptTest, RunStopsItsChildStep) {
   EXPECT_EQ(processesUsingFolder(), 0);
   EXPECT_TRUE(temporaries().empty()) << temporaries()[0];
   EXPECT_NE(readFile(err_).find("stopped 1 child process"), std::string::npos) << readFile(err_);
+}
+
+TEST_F(InterruptTest, AKilledRunTakesItsChildWithIt) {
+  const pid_t pid = start({"run", "pendulum_conveyor", "--out", (dir_ / "run").string()});
+  ASSERT_TRUE(waitFor([&] { return processesUsingFolder() >= 2; }));
+  EXPECT_EQ(stop(pid, SIGKILL), -SIGKILL);
+  // the child saltus gets SIGTERM as its parent dies (SALTUS_PARENT_PID) and cleans up
+  EXPECT_TRUE(waitFor([&] { return processesUsingFolder() == 0; }));
+  EXPECT_TRUE(waitFor([&] { return temporaries().empty(); }));
+}
+
+}  // namespace
+
+namespace {
+
+// Refused before any work: nothing is created, and the message names the option.
+TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
+  const fs::path dir = saltus::testing::scratchPath("before", "work");
+  fs::create_directories(dir);
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::string run_dir = (dir / "run").string(), out = (dir / "sol").string();
+  const std::vector<Case> cases = {
+      {{"run", "point_mass_drop", "--N", "0", "--out", run_dir}, "--N: expected from 1 to 10000"},
+      {{"run", "point_mass_drop", "--ipopt", "foo=1", "--out", run_dir}, "--ipopt foo=1: unknown Ipopt option 'foo'"},
+      {{"run", "point_mass_drop", "--set", "nosuch=1", "--out", run_dir}, "nosuch"},
+      {{"optimize", "point_mass_drop", "--ipopt", "max_iter=abc", "--out", out}, "--ipopt max_iter=abc"},
+      {{"optimize", "point_mass_drop", "--ipopt", "hessian_approximation=exact", "--out", out}, "--hessian"},
+      {{"optimize", "point_mass_drop", "--out", "/proc/saltus-test/x"}, "--out /proc/saltus-test/x: cannot create"},
+      {{"optimize", "point_mass_drop", "--N", "", "--out", out}, "--N: expected a value, got an empty string"},
+      {{"optimize", "point_mass_drop", "--seed=", "--out", out}, "--seed: expected a value"},
+      {{"optimize", "point_mass_drop", "--seed", "-1", "--out", out}, "--seed: expected a whole number of 0 or more, got '-1'"},
+  };
+  for (const Case& c : cases) {
+    const auto r = runSaltus(c.args);
+    EXPECT_NE(r.status, 0) << c.args[0] << " " << c.message;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << "expected '" << c.message << "' in:\n" << r.err;
+    EXPECT_TRUE(fs::is_empty(dir)) << "left behind by: " << c.message;
+  }
+  fs::remove_all(dir);
+}
+
+// A solution records its problem's fingerprint; replay and render say when the problem changed.
+TEST(BeforeAnyWork, ReplaySaysWhenTheProblemChanged) {
+  const fs::path dir = saltus::testing::scratchPath("changed", "problem");
+  fs::create_directories(dir);
+  const fs::path problem = dir / "drop.yaml";
+  fs::copy_file(fs::path(SALTUS_SOURCE_DIR) / "models" / "problems" / "point_mass_drop.yaml", problem);
+  ASSERT_EQ(runSaltus({"optimize", problem.string(), "--out", (dir / "sol").string()}).status, 0);
+  auto r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
+  EXPECT_EQ(r.err.find("changed since this solution was saved"), std::string::npos) << r.err;
+  std::ofstream(problem, std::ios::app) << "# edited\n";
+  r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
+  EXPECT_NE(r.err.find("warning: the problem " + problem.string() + " (or its model file) changed since this solution was saved"),
+            std::string::npos)
+      << r.err;
+  fs::remove_all(dir);
 }
 
 }  // namespace

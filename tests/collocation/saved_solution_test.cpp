@@ -103,9 +103,9 @@ TEST_F(SavedSolutionTest, MalformedFilesNameTheFileAndLine) {
   expectError(replace("# method: impulsive", "# method: implicit"), "variables.csv: method: unknown method 'implicit'");
   expectError(replace("# N: 20", "# N: twenty"), "N: expected a finite number");
   expectError(replace("name,value", "variable,value"), "variables.csv:\\d+: expected the column header");
-  expectError(replace("h[1,0],", "h[99,0],"), "variables.csv:9: variable 'h\\[99,0\\]' does not belong");
-  expectError(replace("q[1,0],", "h[1,0],"), "variables.csv:10: variable 'h\\[1,0\\]' is given twice");
-  expectError(replace("q[1,0],0.10000000000000001", "q[1,0],nan"), "variables.csv:10: q\\[1,0\\]: expected a finite number, got 'nan'");
+  expectError(replace("h[1,0],", "h[99,0],"), "variables.csv:10: variable 'h\\[99,0\\]' does not belong");  // after 9 header lines
+  expectError(replace("q[1,0],", "h[1,0],"), "variables.csv:11: variable 'h\\[1,0\\]' is given twice");
+  expectError(replace("q[1,0],0.10000000000000001", "q[1,0],nan"), "variables.csv:11: q\\[1,0\\]: expected a finite number, got 'nan'");
   // A negative element length (the trajectory would run backwards): refused, naming the variable.
   expectError([](const std::string& s) {
     std::string out = s;

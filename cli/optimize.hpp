@@ -1,0 +1,39 @@
+// The options of `saltus optimize` and their checks, shared with `saltus run`, which checks its
+// optimize step's options before it creates anything.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "saltus/saltus.hpp"
+
+namespace saltus::cli {
+
+struct OptimizeCliOptions {
+  std::string problem;
+  std::string method = "impulsive";
+  std::optional<int> P, N;
+  std::optional<unsigned> seed;
+  std::string seed_kind;
+  std::string seed_from;
+  std::optional<double> seed_scale;
+  std::optional<int> restarts;
+  std::optional<double> tighten_within;
+  std::vector<std::string> set, ipopt;
+  std::string hessian;
+  int print_level = 0;
+  bool derivative_check = false;
+  std::string out;
+};
+
+struct OptimizeCall {
+  collocation::Problem problem;
+  OptimizeOptions options;
+};
+
+// The problem loaded and the options checked (adjustedProblem included), as the solve will use
+// them; throws UsageError naming the option, or the loaders' errors naming file and line.
+OptimizeCall prepareOptimize(const OptimizeCliOptions& options);
+
+}  // namespace saltus::cli
