@@ -126,12 +126,17 @@ SavedSolution loadSolution(const std::string& path) {
     throw SolutionError(file.string() + ": method: " + e.what());
   }
   const int N = parseInteger(keys["N"], file.string(), "N"), P = parseInteger(keys["P"], file.string(), "P");
+  // the problem file's limits, before anything of that size is allocated
+  if (N < 1 || N > kMaxElements)
+    throw SolutionError(file.string() + ": N: expected from 1 to " + std::to_string(kMaxElements) + " elements, got " +
+                        std::to_string(N));
+  if (P < 1 || P > 9) throw SolutionError(file.string() + ": P: expected an order from 1 to 9, got " + std::to_string(P));
   try {
     remesh(*s.problem, N, P);
-  } catch (const std::invalid_argument& e) {
+    s.transcription = std::make_unique<Transcription>(*s.problem, method);
+  } catch (const std::invalid_argument& e) {  // a method that cannot represent the problem
     throw SolutionError(file.string() + ": " + e.what());
   }
-  s.transcription = std::make_unique<Transcription>(*s.problem, method);
 
   std::map<std::string, int> index;
   const auto& names = s.transcription->variableNames();

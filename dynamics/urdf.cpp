@@ -394,7 +394,23 @@ void checkXmlText(const std::string& xml, const std::string& source_name) {
   if (nul != std::string::npos)
     fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(nul), '\n')),
          "a NUL byte at offset " + std::to_string(nul) + ": binary content, expected a URDF (XML text)");
-  const std::size_t first = xml.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  // well-formed UTF-8: TinyXML steps over the end of the text after a cut multi-byte character
+  int line = 1;
+  for (std::size_t i = 0; i < xml.size();) {
+    const unsigned char c = static_cast<unsigned char>(xml[i]);
+    if (c == '\n') ++line;
+    const int extra = c < 0x80 ? 0 : (c >> 5) == 0x6 ? 1 : (c >> 4) == 0xE ? 2 : (c >> 3) == 0x1E ? 3 : -1;
+    bool ok = extra >= 0 && i + static_cast<std::size_t>(extra) < xml.size();
+    for (int k = 1; ok && k <= extra; ++k) ok = (static_cast<unsigned char>(xml[i + static_cast<std::size_t>(k)]) >> 6) == 0x2;
+    if (!ok)
+      fail(source_name + ":" + std::to_string(line),
+           "a byte that is not UTF-8 text at offset " + std::to_string(i) + "; expected a URDF (XML in UTF-8)");
+    i += static_cast<std::size_t>(extra) + 1;
+  }
+  const std::size_t bom = xml.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;  // a byte-order mark, exactly
+  const std::size_t first = xml.find_first_not_of(" \t\r\n", bom);
+  if (first == std::string::npos)
+    fail(source_name, "the file is empty; expected a URDF (<robot name=...> with links and joints)");
   if (xml[first] != '<')
     fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(first), '\n')),
          "expected a URDF (XML starting with '<'), got text starting with '" + xml.substr(first, 12) + "'");

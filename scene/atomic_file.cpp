@@ -15,8 +15,18 @@ AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
     : path_(std::move(path)), tmp_path_(temporaryName(path_, suffix)) {
   std::error_code ec;
   const auto status = std::filesystem::symlink_status(path_, ec);
-  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-    throw std::runtime_error(path_ + ": exists and is not a regular file; refusing to replace it");
+  const auto target = std::filesystem::status(path_, ec);  // through a symlink
+  if (mode == Mode::Stream && (std::filesystem::is_character_file(target) || std::filesystem::is_fifo(target))) {
+    // /dev/null, /dev/stdout, a pipe: written into, never replaced (nothing to make atomic)
+    file_ = std::fopen(path_.c_str(), "wb");
+    if (!file_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    direct_ = true;
+    return;
+  }
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw std::runtime_error(path_ + ": exists and is not a regular file (" +
+                             (std::filesystem::is_directory(status) ? "a folder" : std::filesystem::is_symlink(status) ? "a symlink" : "a special file") +
+                             "); refusing to replace it");
   removeStaleTemporaries(std::filesystem::path(path_).parent_path().string());
   registerTemporary(tmp_path_);
   if (mode == Mode::External) return;
@@ -30,7 +40,7 @@ AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
 
 AtomicFile::~AtomicFile() {
   if (file_) std::fclose(file_);
-  if (!committed_) {
+  if (!committed_ && !direct_) {
     std::remove(tmp_path_.c_str());
     forgetTemporary(tmp_path_);
   }
@@ -41,12 +51,16 @@ void AtomicFile::commit() {
   if (file_) {
     // Flushed to the disk before the rename: after a crash the target is the old file or the
     // whole new one, never an empty or cut one.
-    const bool write_ok = std::ferror(file_) == 0 && std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+    const bool write_ok = std::ferror(file_) == 0 && std::fflush(file_) == 0 && (direct_ || ::fsync(::fileno(file_)) == 0);
     const int err = errno;
     const bool close_ok = std::fclose(file_) == 0;
     file_ = nullptr;
     if (!write_ok || !close_ok)
       throw std::runtime_error(path_ + ": writing failed (" + std::strerror(write_ok ? errno : err) + ")");
+  }
+  if (direct_) {
+    committed_ = true;
+    return;
   }
   if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
     throw std::runtime_error(path_ + ": cannot rename the finished file into place (" + std::strerror(errno) + ")");

@@ -1,7 +1,8 @@
 // Writing an output file so that a reader never sees it half-written: the content goes to a
 // temporary file beside the target (same folder, so the rename cannot cross file systems), which
 // is flushed to the disk and then renamed onto it. A target that exists and is not a regular file
-// (a symlink such as /dev/stdout, a device, a folder) is refused, never replaced. Every writer of
+// is never replaced: a character device or a pipe (/dev/null, /dev/stdout, through a symlink or
+// not) is written into directly; anything else (a folder, a symlink to a file) is refused. Every writer of
 // an output file goes through here: the time-stepper's trajectory, the optimiser's solution files,
 // PNG frames and the encoder's video.
 #pragma once
@@ -38,6 +39,7 @@ class AtomicFile {
   std::string path_, tmp_path_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  bool direct_ = false;  // a character device or a pipe (/dev/null, /dev/stdout): written in place
 };
 
 // The whole of `text` as the file `path`, through an AtomicFile.

@@ -1,6 +1,9 @@
 #include "scene/yaml_reader.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+
 #include <algorithm>
+#include <fstream>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -131,6 +134,24 @@ bool plainNumber(const std::string& s, double& x) {
 
 }  // namespace
 
+namespace {
+
+// Where each document starts; nothing else of the events is kept.
+struct DocumentMarks : YAML::EventHandler {
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+}  // namespace
+
 YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   try {
     std::error_code error;
@@ -144,12 +165,24 @@ YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
     if (std::filesystem::file_size(path, error) > kMaxYamlBytes)
       throw ScenarioError(path + ": " + std::to_string(std::filesystem::file_size(path, error)) +
                           " bytes; expected a " + what + " of at most " + std::to_string(kMaxYamlBytes) + " bytes");
-    // One document: a second one (after '---') would be silently ignored.
-    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
-    if (documents.size() > 1)
-      throw ScenarioError(location(path, documents[1].Mark()) + ": a second YAML document; a " + what +
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ScenarioError(path + ": cannot open the " + what);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    const YAML::Node root = YAML::Load(text);
+    // One document: a second one (after '---') would be silently ignored. Counted with a parser
+    // that stops at two: yaml-cpp 0.7's LoadAll never ends on some inputs (a line starting with
+    // ',', yaml-cpp issue #1040, found by tests/fuzz).
+    std::istringstream again(text);
+    YAML::Parser parser(again);
+    DocumentMarks marks;
+    for (int n = 0; n < 2 && parser.HandleNextDocument(marks); ++n) {
+    }
+    if (marks.starts.size() > 1)
+      throw ScenarioError(location(path, marks.starts[1]) + ": a second YAML document; a " + what +
                           " holds one (remove the '---' line before it)");
-    return documents.empty() ? YAML::Node() : documents.front();
+    return root;
   } catch (const YAML::ParserException& e) {
     throw ScenarioError(location(path, e.mark) + ": YAML syntax error: " + e.msg);
   } catch (const YAML::BadFile&) {

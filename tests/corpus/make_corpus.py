@@ -35,6 +35,8 @@ URDF = {
     "binary": (b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)), ["{path}:1:", "NUL byte", "binary content"]),
     "empty": ("", ["{path}", "empty"]),
     "not_xml": ("name: robot\nlinks: []\n", ["{path}:1:", "expected a URDF", "'name: robot"]),
+    "cut_utf8": (b'<?xml version="1.0"?>\n<robot name="\xd7', ["{path}:2:", "not UTF-8"]),  # TinyXML over-read
+    "bom_only": (b" \xef\xbb\xbf\xbf", ["{path}:1:", "not UTF-8"]),
     "deep_nesting": ('<?xml version="1.0"?>\n<robot name="r">\n' + "<a>" * 120 + "</a>" * 120 + "\n</robot>\n",
                      ["{path}:3:", "nested deeper than 100 levels"]),
 }
@@ -42,6 +44,7 @@ URDF = {
 SCENE_HEAD = open(os.path.join(ROOT, "models", "scenes", "ball_drop.yaml")).read()
 
 SCENARIO = {
+    "comma_line": (",\n", ["{path}:"]),  # yaml-cpp's LoadAll never ended on it (issue #1040)
     "second_document": (SCENE_HEAD + "---\nmodel: {point_mass: {mass: -5}}\n", ["{path}:", "a second YAML document"]),
     "gravity_huge": (SCENE_HEAD.replace("model:\n", "gravity: [0, 0, -1e300]\nmodel:\n", 1),
                      ["{path}:", "gravity:", "at most 1000 m/s^2", "-1e+300"]),
@@ -106,6 +109,7 @@ def main():
     cases = {
         "negative_element": (lines[:h] + ["h[1,0],-0.01\n"] + lines[h + 1:], ["variables.csv: variable 'h[1,0]'", "positive element length", "-0.01"]),
         "truncated": (lines[:len(lines) // 2], ["variables.csv", "missing"]),
+        "order_huge": ([l.replace("# P: 4", "# P: 100000") for l in lines], ["variables.csv: P:", "1 to 9", "100000"]),
         "not_finite": (lines[:h] + ["h[1,0],nan\n"] + lines[h + 1:], ["variables.csv:9:", "h[1,0]", "nan"]),
     }
     for name, (content, expect) in sorted(cases.items()):

@@ -4,6 +4,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
+
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -66,7 +69,7 @@ TEST_F(AtomicFileTest, RefusesToReplaceWhatIsNotARegularFile) {
   writeFileAtomically(real.string(), "kept\n");
   fs::create_symlink(real, link);
   fs::create_directory(folder);
-  for (const fs::path& target : {link, folder, fs::path("/dev/null")}) {
+  for (const fs::path& target : {link, folder}) {
     try {
       AtomicFile file(target.string());
       ADD_FAILURE() << target << " was accepted";
@@ -78,6 +81,28 @@ TEST_F(AtomicFileTest, RefusesToReplaceWhatIsNotARegularFile) {
   EXPECT_TRUE(fs::is_symlink(link));
   EXPECT_EQ(readText(real), "kept\n");
   EXPECT_TRUE(fs::is_directory(folder));
+}
+
+TEST_F(AtomicFileTest, ADeviceOrAPipeIsWrittenIntoNotReplaced) {
+  // /dev/null (and, through a symlink to it, as /dev/stdout is) stays the character device
+  const fs::path link = dir_ / "null";
+  fs::create_symlink("/dev/null", link);
+  for (const fs::path& target : {fs::path("/dev/null"), link}) {
+    writeFileAtomically(target.string(), "discarded\n");
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  }
+  EXPECT_TRUE(fs::is_symlink(link));
+  // a pipe: the reader gets the text
+  const fs::path fifo = dir_ / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = readText(fifo); });
+  writeFileAtomically(fifo.string(), "through the pipe\n");
+  reader.join();
+  EXPECT_EQ(got, "through the pipe\n");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  // an encoder's output cannot go to a device: refused
+  EXPECT_THROW(AtomicFile("/dev/null", AtomicFile::Mode::External, ".mp4"), std::runtime_error);
 }
 
 TEST_F(AtomicFileTest, AFileWrittenByAnotherProgramIsRenamedOnCommit) {
