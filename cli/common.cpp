@@ -1,5 +1,6 @@
 #include "cli/common.hpp"
 
+#include <filesystem>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -78,6 +79,31 @@ Eigen::VectorXd parseCoordinateVector(const std::string& option, const std::stri
     x[static_cast<Eigen::Index>(i)] = value;
   }
   return x;
+}
+
+}  // namespace saltus::cli
+
+namespace saltus::cli {
+
+void checkOutputTarget(const std::string& option, const std::string& path, bool folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const auto status = fs::symlink_status(path, error);
+  const auto target = fs::status(path, error);
+  const std::string named = option + " " + path + ": ";
+  if (folder) {
+    if (fs::exists(target) && !fs::is_directory(target)) throw UsageError(named + "exists and is not a folder");
+    return;
+  }
+  if (fs::is_directory(target)) throw UsageError(named + "is a folder; expected a file to write");
+  const bool device = fs::is_character_file(target) || fs::is_fifo(target) || path.rfind("/dev/", 0) == 0;
+  if (fs::is_symlink(status) && !device)
+    throw UsageError(named + "is a symlink; refusing to replace it (give the file it points to)");
+  if (fs::exists(status) && !fs::is_regular_file(status) && !device && !fs::is_symlink(status))
+    throw UsageError(named + "exists and is not a regular file; refusing to replace it");
+  const fs::path parent = fs::path(path).parent_path();
+  if (!device && !parent.empty() && !fs::is_directory(parent, error))
+    throw UsageError(named + "the folder " + parent.string() + " does not exist");
 }
 
 }  // namespace saltus::cli

@@ -28,6 +28,11 @@ class UsageError : public std::runtime_error {
 // The library API's message "field_name: …" as "--field-name: …" (its option on the command line).
 UsageError optionError(const std::exception& e);
 
+// Checks an output target before any work, naming the option: a file (`folder` false) must not
+// be a folder, nor a symlink to anything but a device or a pipe, and its folder must exist; a
+// folder must be one if it exists. Throws UsageError ("--out x: is a folder; expected a file").
+void checkOutputTarget(const std::string& option, const std::string& path, bool folder);
+
 // A subcommand: its CLI11 parser and what runs when it was given. run() returns the exit code
 // and throws UsageError, dynamics::ModelError or other std::exceptions on failure.
 struct Command {

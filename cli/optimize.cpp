@@ -96,28 +96,38 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
   const Problem& problem = call.problem;
   const OptimizeOptions& options = call.options;
   const Method method = options.method;
-  // The folder is checked writable before the solve (a probe file), not after minutes of it; a
-  // folder made here goes again if the run is interrupted or fails.
-  std::unique_ptr<scene::ScopedTemporary> made;
+  // The folder is checked writable before the solve (a probe file), not after minutes of it. A
+  // new folder is written as a temporary one beside it and renamed when the solution is saved, so
+  // that neither an interrupt nor a SIGKILL leaves an empty or partial folder under its name.
   std::error_code error;
-  if (!fs::exists(opt.out, error)) {
-    const fs::path first = [&] {
-      fs::path p = fs::absolute(opt.out).lexically_normal(), missing = p;
-      while (!p.empty() && !fs::exists(p, error) && p != p.parent_path()) missing = p, p = p.parent_path();
-      return missing;
-    }();
-    made = std::make_unique<scene::ScopedTemporary>(first.string());
-    fs::create_directories(opt.out, error);
+  const fs::path out = fs::absolute(opt.out).lexically_normal();
+  const fs::path target = out.has_filename() ? out : out.parent_path();
+  std::unique_ptr<scene::ScopedTemporary> made_parents, work;
+  const bool fresh = !fs::exists(target, error);
+  if (fresh) {
+    scene::removeStaleTemporaries(target.parent_path().string());  // a killed solve's folder
+    fs::path missing;
+    for (fs::path p = target.parent_path(); !p.empty() && !fs::exists(p, error) && p != p.parent_path(); p = p.parent_path())
+      missing = p;
+    if (!missing.empty()) made_parents = std::make_unique<scene::ScopedTemporary>(missing.string());
+    work = std::make_unique<scene::ScopedTemporary>(scene::temporaryName(target.string()));
+    fs::create_directories(work->path(), error);
     if (error) throw UsageError("--out " + opt.out + ": cannot create the folder (" + error.message() + ")");
   }
+  const std::string folder = fresh ? work->path() : opt.out;
   try {
-    scene::AtomicFile probe((fs::path(opt.out) / "summary.json").string());
+    scene::AtomicFile probe((fs::path(folder) / "summary.json").string());
   } catch (const std::exception& e) {
-    throw UsageError(std::string("--out: ") + e.what());
+    throw UsageError("--out " + opt.out + ": cannot write into it (" + e.what() + ")");
   }
   const OptimizeResult o = saltus::optimize(problem, options);  // refuses what the method cannot represent
-  saveSolution(opt.out, o);
-  if (made) made->keep();
+  saveSolution(folder, o);
+  if (fresh) {
+    fs::rename(work->path(), target, error);
+    if (error) throw std::runtime_error(opt.out + ": cannot move the solution into place (" + error.message() + ")");
+    work->keep();
+    if (made_parents) made_parents->keep();
+  }
 
   const SolveReport& r = o.report;
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "

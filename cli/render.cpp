@@ -36,6 +36,8 @@ struct RenderCliOptions {
 };
 
 int renderCommand(const RenderCliOptions& opt) {
+  if (!opt.out.empty()) checkOutputTarget("--out", opt.out, false);
+  if (!opt.frames.empty()) checkOutputTarget("--frames", opt.frames, true);
   if (opt.out.empty() && opt.frames.empty())
     throw UsageError("nothing to write: give --out VIDEO.mp4 and/or --frames DIR");
   if (!(opt.fps > 0) || !std::isfinite(opt.fps) || opt.fps > 1000)

@@ -64,6 +64,14 @@ int simulate(const SimulateCliOptions& opt) {
   try {
     bytes = csvBytesEstimate(scene, options);
   } catch (const std::invalid_argument& e) {
+    // a step count from the scene file's duration names the file, from the options the options
+    const std::string what = e.what();
+    if (!opt.duration && what.find("too many steps") != std::string::npos)
+      throw std::runtime_error(scene.source + ": duration: " + formatNumber(scene.duration) + " s at --dt " +
+                               formatNumber(opt.dt) + " s is too many steps (expected fewer than 2^53)");
+    if (what.find("too many steps") != std::string::npos)
+      throw UsageError("--duration " + formatNumber(*opt.duration) + " s at --dt " + formatNumber(opt.dt) +
+                       " s: too many steps (expected fewer than 2^53)");
     throw optionError(e);
   }
   // The size is estimated before the run: a mistyped duration is refused, not written at disk speed.
@@ -74,7 +82,13 @@ int simulate(const SimulateCliOptions& opt) {
                      "; keep fewer rows with --every N or --sample-dt, or raise --max-output-mb");
   }
 
-  scene::TrajectoryCsvWriter writer(opt.out, scene::trajectoryLayout(scene));
+  std::optional<scene::TrajectoryCsvWriter> writer_or;
+  try {
+    writer_or.emplace(opt.out, scene::trajectoryLayout(scene));
+  } catch (const std::runtime_error& e) {
+    throw UsageError(std::string("--out ") + e.what());
+  }
+  scene::TrajectoryCsvWriter& writer = *writer_or;
   const SimulationSummary run = saltus::simulate(scene, options, [&](const SimulationSample& s) { writeSample(writer, s); });
   writer.commit();
 

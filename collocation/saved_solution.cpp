@@ -1,5 +1,6 @@
 #include "collocation/saved_solution.hpp"
 
+#include <cstdio>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -75,6 +76,14 @@ void writeSolution(const std::string& dir, const Transcription& t, const Eigen::
     throw SolutionError(path + ": cannot write the solution (" + e.what() + ")");
   }
 }
+
+namespace {
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+}  // namespace
 
 SavedSolution loadSolution(const std::string& path) {
   fs::path file = path;
@@ -165,10 +174,14 @@ SavedSolution loadSolution(const std::string& path) {
   }
   // Element lengths are positive (Ipopt keeps them within their bounds): a zero or negative one
   // would give a trajectory running backwards or of no duration.
-  for (const ElementLayout& L : s.transcription->layout())
+  for (const ElementLayout& L : s.transcription->layout()) {
+    if (s.x[L.h] > s.problem->h_max * (1 + 1e-6))
+      throw SolutionError(file.string() + ": variable '" + names[L.h] + "': expected an element length of at most h_max = " +
+                          shortNumber(s.problem->h_max) + " s, got " + shortNumber(s.x[L.h]));
     if (!(s.x[L.h] > 0))
       throw SolutionError(file.string() + ": variable '" + names[L.h] + "': expected a positive element length [s], got " +
-                          std::to_string(s.x[L.h]));
+                          shortNumber(s.x[L.h]));
+  }
   return s;
 }
 

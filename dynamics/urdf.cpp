@@ -1,6 +1,8 @@
 #include "dynamics/urdf.hpp"
 
 #include <filesystem>
+
+#include <tinyxml.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -198,6 +200,8 @@ bool toVisual(const urdf::Visual& in, Visual& out) {
   return true;
 }
 
+constexpr double kMaxVisualSize = 1e3;  // [m]: a robot's part (and a scale factor) is far smaller
+
 // A shape's sizes are positive and finite (a box's three edges, a cylinder's radius and length, a
 // sphere's radius; a mesh's scale finite and non-zero): a negative or NaN size draws nothing.
 void checkVisualSize(const Visual& v, const std::string& link, const std::string& source) {
@@ -206,13 +210,14 @@ void checkVisualSize(const Visual& v, const std::string& link, const std::string
   const Eigen::Vector3d size = v.shape == Visual::Shape::Mesh ? v.mesh_scale : v.size;
   bool ok = true;
   for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i)
-    ok = ok && std::isfinite(size[i]) && (v.shape == Visual::Shape::Mesh ? size[i] != 0 : size[i] > 0);
+    ok = ok && std::isfinite(size[i]) && std::abs(size[i]) <= kMaxVisualSize &&
+         (v.shape == Visual::Shape::Mesh ? size[i] != 0 : size[i] > 0);
   if (ok) return;
   std::ostringstream got;
   for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i) got << (i ? " " : "") << size[i];
   fail(source, "link '" + link + "': visual " + shapes[static_cast<int>(v.shape)] +
-                   (v.shape == Visual::Shape::Mesh ? " scale: expected finite, non-zero factors"
-                                                   : " size: expected positive, finite lengths [m]") +
+                   (v.shape == Visual::Shape::Mesh ? " scale: expected non-zero factors of at most 1000 in magnitude"
+                                                   : " size: expected positive lengths of at most 1000 m") +
                    ", got '" + got.str() + "'");
 }
 
@@ -420,6 +425,14 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
   // Parse with urdfdom; on failure explain a closed loop ourselves, then quote the parser.
   checkXmlText(xml, source_name);
   checkXmlNesting(xml, source_name);
+  {
+    // The XML syntax, with the row TinyXML (urdfdom's parser) stopped at, which urdfdom drops.
+    TiXmlDocument document;
+    document.Parse(xml.c_str(), nullptr, TIXML_ENCODING_UTF8);
+    if (document.Error())
+      fail(source_name + ":" + std::to_string(std::max(1, document.ErrorRow())),
+           std::string("not well-formed XML (") + document.ErrorDesc() + "); expected a URDF");
+  }
   std::vector<ParserMessage> messages;
   const urdf::ModelInterfaceSharedPtr urdf_model = parseWithUrdfdom(xml, messages);
   if (!urdf_model) {

@@ -16,7 +16,10 @@ AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
   std::error_code ec;
   const auto status = std::filesystem::symlink_status(path_, ec);
   const auto target = std::filesystem::status(path_, ec);  // through a symlink
-  if (mode == Mode::Stream && (std::filesystem::is_character_file(target) || std::filesystem::is_fifo(target))) {
+  // /dev/stdout and /dev/fd/N lead through /proc/self/fd to whatever the descriptor is
+  const bool descriptor = path_.rfind("/dev/", 0) == 0 || path_.rfind("/proc/", 0) == 0;
+  if (mode == Mode::Stream && std::filesystem::exists(target) &&
+      (std::filesystem::is_character_file(target) || std::filesystem::is_fifo(target) || descriptor)) {
     // /dev/null, /dev/stdout, a pipe: written into, never replaced (nothing to make atomic)
     file_ = std::fopen(path_.c_str(), "wb");
     if (!file_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");

@@ -37,6 +37,9 @@ URDF = {
     "not_xml": ("name: robot\nlinks: []\n", ["{path}:1:", "expected a URDF", "'name: robot"]),
     "cut_utf8": (b'<?xml version="1.0"?>\n<robot name="\xd7', ["{path}:2:", "not UTF-8"]),  # TinyXML over-read
     "bom_only": (b" \xef\xbb\xbf\xbf", ["{path}:1:", "not UTF-8"]),
+    "truncated": (urdf(inertial())[:150], ["{path}:", "not well-formed XML"]),
+    "box_huge": (urdf(inertial() + '\n    <visual><geometry><box size="1e300 1 1"/></geometry></visual>'),
+                 ["{path}", "at most 1000 m", "1e+300"]),
     "deep_nesting": ('<?xml version="1.0"?>\n<robot name="r">\n' + "<a>" * 120 + "</a>" * 120 + "\n</robot>\n",
                      ["{path}:3:", "nested deeper than 100 levels"]),
 }
@@ -108,6 +111,7 @@ def main():
     h = next(i for i, l in enumerate(lines) if l.startswith("h[1,0]"))
     cases = {
         "negative_element": (lines[:h] + ["h[1,0],-0.01\n"] + lines[h + 1:], ["variables.csv: variable 'h[1,0]'", "positive element length", "-0.01"]),
+        "element_huge": (lines[:h] + ["h[1,0],1e308\n"] + lines[h + 1:], ["variables.csv: variable 'h[1,0]'", "at most h_max", "1e+308"]),
         "truncated": (lines[:len(lines) // 2], ["variables.csv", "missing"]),
         "order_huge": ([l.replace("# P: 4", "# P: 100000") for l in lines], ["variables.csv: P:", "1 to 9", "100000"]),
         "not_finite": (lines[:h] + ["h[1,0],nan\n"] + lines[h + 1:], ["variables.csv:9:", "h[1,0]", "nan"]),
