@@ -92,7 +92,13 @@ int renderCommand(const RenderCliOptions& opt) {
       std::cerr << "saltus render: " << 25 * last_quarter << "% (" << done << "/" << total << " frames)\n";
     }
   };
-  const RenderReport report = renderTrajectory(trajectory, options, opt.out, opt.frames, std::cerr, progress);
+  RenderReport report;
+  try {
+    report = renderTrajectory(trajectory, options, opt.out, opt.frames, std::cerr, progress);
+  } catch (const std::invalid_argument& e) {
+    if (std::string(e.what()).rfind("speed: ", 0) == 0) throw optionError(e);  // the frame count
+    throw;
+  }
   const int frames = report.frames;
   const double seconds = report.seconds;
 

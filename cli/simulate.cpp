@@ -90,7 +90,11 @@ int simulate(const SimulateCliOptions& opt) {
   }
   scene::TrajectoryCsvWriter& writer = *writer_or;
   const SimulationSummary run = saltus::simulate(scene, options, [&](const SimulationSample& s) { writeSample(writer, s); });
-  writer.commit();
+  try {
+    writer.commit();
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("--out ") + e.what());
+  }
 
   const timestepper::StepperStats& stats = run.stats;
   std::ostringstream s;

@@ -200,7 +200,7 @@ bool toVisual(const urdf::Visual& in, Visual& out) {
   return true;
 }
 
-constexpr double kMaxVisualSize = 1e3;  // [m]: a robot's part (and a scale factor) is far smaller
+constexpr double kMaxVisualSize = 1e6;  // [m]: a robot's part (and a scale factor) is far smaller; a 1e300 one draws nothing
 
 // A shape's sizes are positive and finite (a box's three edges, a cylinder's radius and length, a
 // sphere's radius; a mesh's scale finite and non-zero): a negative or NaN size draws nothing.
@@ -217,7 +217,7 @@ void checkVisualSize(const Visual& v, const std::string& link, const std::string
   for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i) got << (i ? " " : "") << size[i];
   fail(source, "link '" + link + "': visual " + shapes[static_cast<int>(v.shape)] +
                    (v.shape == Visual::Shape::Mesh ? " scale: expected non-zero factors of at most 1000 in magnitude"
-                                                   : " size: expected positive lengths of at most 1000 m") +
+                                                   : " size: expected positive lengths of at most 1e6 m") +
                    ", got '" + got.str() + "'");
 }
 

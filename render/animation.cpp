@@ -1,6 +1,7 @@
 #include "render/animation.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -44,8 +45,16 @@ Animation::Animation(const scene::Scene& scene, const TrajectorySource& source, 
   // Frame times: t0 + k · speed / fps up to the end of the trajectory.
   const double t0 = source.startTime(), t1 = source.endTime();
   const double step = options.speed / options.fps;
-  const long n = static_cast<long>(std::floor((t1 - t0) / step + 1e-9)) + 1;
-  if (n > 1000000) throw std::invalid_argument("more than a million frames: lower the fps or raise the speed");
+  const double frames = std::floor((t1 - t0) / step + 1e-9) + 1;
+  if (!(frames <= 1e6)) {
+    char what[256];
+    std::snprintf(what, sizeof what,
+                  "speed: %g s of trajectory (t = %g ... %g s) at speed %g and %g fps is %.3g frames, more than a "
+                  "million: lower the fps or raise the speed",
+                  t1 - t0, t0, t1, options.speed, options.fps, frames);
+    throw std::invalid_argument(what);
+  }
+  const long n = static_cast<long>(frames);
   for (long k = 0; k < n; ++k) times_.push_back(t0 + k * step);
 
   // Poses and bounds; contact points also count projected onto their surfaces, so the surface

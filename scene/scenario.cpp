@@ -95,8 +95,8 @@ std::vector<dynamics::Visual> Loader::readVisuals(const YAML::Node& node, const 
     } else {
       r_.fail(shape, keyPath(p, "shape"), "unknown shape '" + s + "'; expected one of: box, cylinder, sphere");
     }
-    if ((vis.size.array() < 0).any() || vis.size.isZero() || vis.size.maxCoeff() > 1e3)
-      r_.fail(size, keyPath(p, "size"), "sizes must be positive and at most 1000 m, got " + fmt(vis.size));
+    if ((vis.size.array() < 0).any() || vis.size.isZero() || vis.size.maxCoeff() > 1e6)
+      r_.fail(size, keyPath(p, "size"), "sizes must be positive and at most 1e6 m, got " + fmt(vis.size));
     vis.p_BG = r_.vec3(v, p, "xyz", Eigen::Vector3d::Zero());
     vis.R_BG = rpyToMatrix(r_.vec3(v, p, "rpy", Eigen::Vector3d::Zero()));
     if (v["rgba"].IsDefined()) vis.rgba = r_.vector(v["rgba"], keyPath(p, "rgba"), 4);

@@ -39,7 +39,7 @@ URDF = {
     "bom_only": (b" \xef\xbb\xbf\xbf", ["{path}:1:", "not UTF-8"]),
     "truncated": (urdf(inertial())[:150], ["{path}:", "not well-formed XML"]),
     "box_huge": (urdf(inertial() + '\n    <visual><geometry><box size="1e300 1 1"/></geometry></visual>'),
-                 ["{path}", "at most 1000 m", "1e+300"]),
+                 ["{path}", "at most 1e6 m", "1e+300"]),
     "deep_nesting": ('<?xml version="1.0"?>\n<robot name="r">\n' + "<a>" * 120 + "</a>" * 120 + "\n</robot>\n",
                      ["{path}:3:", "nested deeper than 100 levels"]),
 }

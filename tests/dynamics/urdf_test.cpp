@@ -208,7 +208,7 @@ TEST(UrdfErrors, NegativeLimitsAndShapeSizesAreRefused) {
   what = errorOf([&] { loadUrdfString(robot("effort=\"10\" velocity=\"-3\"", good_box)); });
   EXPECT_HAS(what, "joint 'j': <limit velocity>");
   what = errorOf([&] { loadUrdfString(robot(good_limit, "<box size=\"-1 2 0\"/>")); });
-  EXPECT_HAS(what, "link 'l1': visual box size: expected positive lengths of at most 1000 m, got '-1 2 0'");
+  EXPECT_HAS(what, "link 'l1': visual box size: expected positive lengths of at most 1e6 m, got '-1 2 0'");
   // urdfdom cannot read "nan": it reports an error and drops the visual; the error is the refusal.
   what = errorOf([&] { loadUrdfString(robot(good_limit, "<box size=\"1 nan 1\"/>")); });
   EXPECT_HAS(what, "not a valid URDF (urdfdom: Unable to parse component [nan]");
