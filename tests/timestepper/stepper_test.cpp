@@ -13,6 +13,7 @@
 #include "tests/support/heap_counter.hpp"
 #include "tests/support/pendulum.hpp"
 #include "tests/support/rk4.hpp"
+#include "scene/scenario.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace saltus::timestepper {
