@@ -36,7 +36,11 @@ std::vector<Penetration> penetrations(const scene::Scene& scene, const Eigen::Ve
     }
     found.push_back(p);
   }
-  std::stable_sort(found.begin(), found.end(), [](const Penetration& a, const Penetration& b) { return a.depth > b.depth; });
+  // deepest first, ties by name (std::sort: no temporary buffer, which the heap-counting tests'
+  // operator new does not cover)
+  std::sort(found.begin(), found.end(), [](const Penetration& a, const Penetration& b) {
+    return a.depth != b.depth ? a.depth > b.depth : a.name < b.name;
+  });
   return found;
 }
 
