@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "dynamics/urdf.hpp"
+#include "scene/atomic_file.hpp"
 
 namespace saltus::cli {
 
@@ -96,7 +97,7 @@ void checkOutputTarget(const std::string& option, const std::string& path, bool 
     return;
   }
   if (fs::is_directory(target)) throw UsageError(named + "is a folder; expected a file to write");
-  const bool device = fs::is_character_file(target) || fs::is_fifo(target) || path.rfind("/dev/", 0) == 0;
+  const bool device = scene::writtenInPlace(path);
   if (fs::is_symlink(status) && !device)
     throw UsageError(named + "is a symlink; refusing to replace it (give the file it points to)");
   if (fs::exists(status) && !fs::is_regular_file(status) && !device && !fs::is_symlink(status))

@@ -15,11 +15,7 @@ AtomicFile::AtomicFile(std::string path, Mode mode, const std::string& suffix)
     : path_(std::move(path)), tmp_path_(temporaryName(path_, suffix)) {
   std::error_code ec;
   const auto status = std::filesystem::symlink_status(path_, ec);
-  const auto target = std::filesystem::status(path_, ec);  // through a symlink
-  // /dev/stdout and /dev/fd/N lead through /proc/self/fd to whatever the descriptor is
-  const bool descriptor = path_.rfind("/dev/", 0) == 0 || path_.rfind("/proc/", 0) == 0;
-  if (mode == Mode::Stream && std::filesystem::exists(target) &&
-      (std::filesystem::is_character_file(target) || std::filesystem::is_fifo(target) || descriptor)) {
+  if (mode == Mode::Stream && writtenInPlace(path_)) {
     // /dev/null, /dev/stdout, a pipe: written into, never replaced (nothing to make atomic)
     file_ = std::fopen(path_.c_str(), "wb");
     if (!file_) throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
@@ -69,6 +65,15 @@ void AtomicFile::commit() {
     throw std::runtime_error(path_ + ": cannot rename the finished file into place (" + std::strerror(errno) + ")");
   committed_ = true;
   forgetTemporary(tmp_path_);
+}
+
+bool writtenInPlace(const std::string& path) {
+  std::error_code ec;
+  const auto target = std::filesystem::status(path, ec);  // through a symlink
+  if (!std::filesystem::exists(target)) return false;
+  // /dev/stdout and /dev/fd/N lead through /proc/self/fd to whatever the descriptor is
+  const bool descriptor = path.rfind("/dev/", 0) == 0 || path.rfind("/proc/", 0) == 0;
+  return std::filesystem::is_character_file(target) || std::filesystem::is_fifo(target) || descriptor;
 }
 
 void writeFileAtomically(const std::string& path, const std::string& text) {

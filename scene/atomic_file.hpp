@@ -42,6 +42,10 @@ class AtomicFile {
   bool direct_ = false;  // a character device or a pipe (/dev/null, /dev/stdout): written in place
 };
 
+// Whether `path` is written in place rather than replaced: an existing character device or pipe,
+// or a descriptor path (/dev/stdout, /dev/fd/N, /proc/self/fd/N) whatever it leads to.
+bool writtenInPlace(const std::string& path);
+
 // The whole of `text` as the file `path`, through an AtomicFile.
 void writeFileAtomically(const std::string& path, const std::string& text);
 
