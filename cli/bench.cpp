@@ -72,6 +72,19 @@ struct StabilityOptions : BenchOptions {
 const char* kDefaultFrictions = "0.3,0.6,1,2,5";
 const char* kDefaultRestitutions = "0,0.25,0.5,0.75,0.9,1";
 
+// Every dt of a grid gives a valid step count over `duration` (before any work).
+void checkStepCounts(const std::string& option, const std::vector<double>& dts, double duration) {
+  for (double dt : dts) {
+    try {
+      stepCount(duration, dt);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(option + ": " + e.what());
+    }
+  }
+}
+
+// The output folder, made when the results are ready to write (checkOutputTarget has checked
+// it before the work), so an interrupted or failed run leaves no empty folder.
 fs::path prepareOutputDirectory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -107,7 +120,8 @@ int workPrecision(const WorkPrecisionOptions& opt) {
 
   const Scene scene = loadScene(opt.scene, overrides);
   const double duration = opt.duration.value_or(scene.duration);
-  const fs::path dir = prepareOutputDirectory(opt.out);
+  checkStepCounts("--dts", dts, duration);
+  checkOutputTarget("--out", opt.out, OutputTarget::Folder);
   ErrorModel model = makeErrorModel(scene, dts, duration, solver);
 
   std::ostringstream csv;
@@ -152,6 +166,7 @@ int workPrecision(const WorkPrecisionOptions& opt) {
                   << (run.failures ? ", " + std::to_string(run.failures) + " solver failures" : std::string()) << "\n";
       }
     }
+  const fs::path dir = prepareOutputDirectory(opt.out);
   const fs::path csv_path = dir / "work_precision.csv";
   writeFileAtomically(csv_path.string(), csv.str());
   std::cerr << "work-precision: wrote " << csv_path.string() << (any_failed ? " (some runs failed: error nan)" : "")
@@ -191,6 +206,16 @@ int perStep(const PerStepOptions& opt) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  // All scenes read before the first line of output, a bad one named under its option.
+  std::vector<Scene> scenes;
+  for (const std::string& name : names) {
+    try {
+      scenes.push_back(loadScene(name));
+      stepCount(scenes.back().duration, opt.dt);
+    } catch (const std::exception& e) {
+      throw UsageError("--scenes: '" + name + "': " + e.what());
+    }
+  }
   std::cout << "# saltus bench per-step: dt " << formatNumber(opt.dt) << " s; ns per step = fastest of " << opt.repeat
             << " rounds (each the fastest run of at least " << formatNumber(opt.min_time)
             << " s CPU), the engines interleaved; error as in work-precision\n"
@@ -200,8 +225,7 @@ int perStep(const PerStepOptions& opt) {
             << verify::bulletSolverName(bullet_solver) << ", tuned settings (verify/bullet_world.hpp)\n"
             << "scene,saltus_ns_per_step,bullet_ns_per_step,bullet_over_saltus,saltus_error,bullet_error,"
                "saltus_failures,bullet_failures\n";
-  for (const std::string& name : names) {
-    const Scene scene = loadScene(name);
+  for (const Scene& scene : scenes) {
     const long steps = stepCount(scene.duration, opt.dt);
     ErrorModel model = makeErrorModel(scene, {opt.dt}, scene.duration, solver);
     double ns[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
@@ -212,7 +236,7 @@ int perStep(const PerStepOptions& opt) {
       const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
       error[e] = runError(model, run);
       failures[e] = run.failures;
-      if (run.failed) throw std::runtime_error(name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);
+      if (run.failed) throw std::runtime_error(scene.name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);
     }
     for (int round = 0; round < opt.repeat; ++round)
       for (int e = 0; e < 2; ++e) {
@@ -312,8 +336,9 @@ int stability(const StabilityOptions& opt) {
   for (double e : restitutions)
     if (e > 1) throw UsageError("--restitutions: " + formatNumber(e) + " is not in [0, 1]");
   const bool exempt = isDriven(base);
-  const fs::path dir = prepareOutputDirectory(opt.out);
   const double duration = opt.duration.value_or(base.duration);
+  checkStepCounts("--dts", dts, duration);
+  checkOutputTarget("--out", opt.out, OutputTarget::Folder);
 
   std::ostringstream csv;
   csv << "# saltus bench stability\n"
@@ -349,6 +374,7 @@ int stability(const StabilityOptions& opt) {
             << formatNumber(r.max_penetration, 6) << "," << formatNumber(r.energy_gain, 6) << "," << r.steps << ","
             << formatNumber(r.t_end, 10) << "," << csvField(r.message) << "\n";
       }
+  const fs::path dir = prepareOutputDirectory(opt.out);
   const fs::path csv_path = dir / "stability.csv";
   writeFileAtomically(csv_path.string(), csv.str());
   std::string summary;

@@ -28,10 +28,25 @@ class UsageError : public std::runtime_error {
 // The library API's message "field_name: …" as "--field-name: …" (its option on the command line).
 UsageError optionError(const std::exception& e);
 
-// Checks an output target before any work, naming the option: a file (`folder` false) must not
-// be a folder, nor a symlink to anything but a device or a pipe, and its folder must exist; a
-// folder must be one if it exists. Throws UsageError ("--out x: is a folder; expected a file").
-void checkOutputTarget(const std::string& option, const std::string& path, bool folder);
+// A usage error's message about an option ("--dt: expected a positive time step [s], got inf")
+// with the option's value as it was written on the command line ("1e400") when the message does
+// not already show it: a check sees the value after conversion (1e400 as inf, 1e-400 as 0).
+// `command` is the subcommand that ran (its own subcommands are searched too).
+std::string withValueAsWritten(const CLI::App& command, const std::string& message);
+
+// What an output option names (checkOutputTarget).
+enum class OutputTarget {
+  File,          // a file written in one stream (CSV, JSON): a device or a pipe is written into
+  RegularFile,   // a file another program writes, then renamed into place (a video): regular only
+  Folder,        // a folder, made with its missing parents
+};
+
+// Checks an output target before any work, naming the option: a file must not be a folder, nor
+// a symlink to anything but a device or a pipe (File), and its folder must exist; a folder must
+// be one if it exists. A file is then created and removed where the output will go, so an
+// unwritable place (/proc/x, a read-only mount) is refused at once, not after a long run.
+// Throws UsageError ("--out x: is a folder; expected a file").
+void checkOutputTarget(const std::string& option, const std::string& path, OutputTarget kind);
 
 // A subcommand: its CLI11 parser and what runs when it was given. run() returns the exit code
 // and throws UsageError, dynamics::ModelError or other std::exceptions on failure.

@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       code = command.run();
     } catch (const cli::UsageError& e) {
       scene::yieldToInterrupt();  // a failure the interrupt caused is reported as the interrupt
-      std::cerr << "saltus: " << e.what() << "\nRun 'saltus " << command.app->get_name()
+      std::cerr << "saltus: " << cli::withValueAsWritten(*command.app, e.what()) << "\nRun 'saltus " << command.app->get_name()
                 << " --help' for usage.\n";
       code = 2;
     } catch (const std::exception& e) {

@@ -27,6 +27,7 @@ struct RenderCliOptions {
   std::optional<std::string> scene;
   std::vector<std::string> set;
   std::string out;
+  bool allow_changed_problem = false;
   std::string frames;
   double fps = 60;
   double speed = 1;
@@ -36,8 +37,8 @@ struct RenderCliOptions {
 };
 
 int renderCommand(const RenderCliOptions& opt) {
-  if (!opt.out.empty()) checkOutputTarget("--out", opt.out, false);
-  if (!opt.frames.empty()) checkOutputTarget("--frames", opt.frames, true);
+  if (!opt.out.empty()) checkOutputTarget("--out", opt.out, OutputTarget::RegularFile);
+  if (!opt.frames.empty()) checkOutputTarget("--frames", opt.frames, OutputTarget::Folder);
   if (opt.out.empty() && opt.frames.empty())
     throw UsageError("nothing to write: give --out VIDEO.mp4 and/or --frames DIR");
   if (!(opt.fps > 0) || !std::isfinite(opt.fps) || opt.fps > 1000)
@@ -71,8 +72,9 @@ int renderCommand(const RenderCliOptions& opt) {
   if (fs::is_directory(input, error)) {
     if (opt.scene || !opt.set.empty())
       throw UsageError("--scene/--set: not used with a 'saltus optimize' directory (its summary.json names the scene)");
-    trajectory = openSolution(opt.input);
-    if (!trajectory.problem_changed.empty()) std::cerr << "saltus render: warning: " << trajectory.problem_changed << "\n";
+    trajectory = openSolution(opt.input, opt.allow_changed_problem);
+    if (!trajectory.problem_changed.empty())
+      std::cerr << "saltus render: warning: " << trajectory.problem_changed << ": drawn in the problem as it is now\n";
   } else {
     if (!opt.scene) throw UsageError("--scene: required with a trajectory CSV (the scene it was simulated in)");
     trajectory = openTrajectoryCsv(opt.input, scene::loadScene(*opt.scene, parseSetOptions(opt.set)));
@@ -124,6 +126,8 @@ Command addRenderCommand(CLI::App& saltus) {
   app->add_option("--set", opt->set, "override a scene parameter: name=value (repeatable), as when simulated");
   app->add_option("--out", opt->out, "H.264 MP4 video to write (through the ffmpeg program)");
   app->add_option("--frames", opt->frames, "directory to write PNG frames into (frame_00000.png, ...)");
+  app->add_flag("--allow-changed-problem", opt->allow_changed_problem,
+                "draw a solution even when its problem file changed since the solve (in the problem as it is now)");
   app->add_option("--fps", opt->fps, "video frames per second")->capture_default_str();
   app->add_option("--speed", opt->speed, "playback speed: trajectory seconds per video second (0.25: slow motion)")
       ->capture_default_str();

@@ -49,6 +49,7 @@ struct ReplayCliOptions {
   std::string input_offset;
   std::string bullet_solver = "dantzig";
   std::string out;
+  bool allow_changed_problem = false;
 };
 
 int replayCommand(const ReplayCliOptions& opt) {
@@ -80,11 +81,13 @@ int replayCommand(const ReplayCliOptions& opt) {
   o.kd = opt.kd;
   o.tolerance = opt.tolerance;
   o.input_scale = opt.input_scale;
-  if (fs::exists(opt.out) && !fs::is_directory(opt.out)) throw UsageError("--out " + opt.out + ": exists and is not a directory");
+  checkOutputTarget("--out", opt.out, OutputTarget::Folder);
 
   // The solution.
   const collocation::SavedSolution solution = collocation::loadSolution(opt.dir);
-  if (!solution.problem_changed.empty()) std::cerr << "saltus replay: warning: " << solution.problem_changed << "\n";
+  collocation::checkSameProblem(solution, opt.allow_changed_problem);
+  if (!solution.problem_changed.empty())
+    std::cerr << "saltus replay: warning: " << solution.problem_changed << ": the replay uses the problem as it is now\n";
   const int nu = static_cast<int>(solution.problem->inputs.size());
   if (!opt.input_offset.empty()) {
     if (nu == 0) throw UsageError("--input-offset: the problem has no inputs");
@@ -171,6 +174,8 @@ Command addReplayCommand(CLI::App& saltus) {
   app->add_option("--input-offset", opt->input_offset, "add a constant to each input, comma-separated (a deliberately wrong input)");
   app->add_option("--bullet-solver", opt->bullet_solver, "dantzig (default), lemke or si");
   app->add_option("--out", opt->out, "report directory (replay.json, replay.csv, charts)")->required();
+  app->add_flag("--allow-changed-problem", opt->allow_changed_problem,
+                "replay even when the problem file changed since the solve (against the problem as it is now)");
   return {app, [opt] { return replayCommand(*opt); }};
 }
 

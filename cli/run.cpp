@@ -37,6 +37,7 @@
 #include "cli/run_pipeline.hpp"
 #include "scene/cleanup.hpp"
 #include "cli/simulation.hpp"
+#include "render/animation.hpp"  // kMaxFrames
 #include "saltus/collocation_source.hpp"
 
 namespace saltus::cli {
@@ -63,12 +64,32 @@ struct RunOptions {
 
 // Runs step.command with standard output and error into `log_path` (MPLBACKEND=Agg for the
 // chart script); records exit status and wall time.
+// A folder a step makes: removed again if the run is interrupted before the step keeps it
+// (an earlier folder of that name is left alone).
+class MadeFolder {
+ public:
+  explicit MadeFolder(const fs::path& dir) {
+    std::error_code error;
+    if (!fs::exists(dir, error)) made_ = std::make_unique<scene::ScopedTemporary>(dir.string());
+    fs::create_directories(dir);
+  }
+  void keep() {
+    if (made_) made_->keep();
+  }
+
+ private:
+  std::unique_ptr<scene::ScopedTemporary> made_;
+};
+
 void runPipelineStep(PipelineStep& step, const fs::path& run_dir, const fs::path& log_path) {
   step.log = fs::relative(log_path, run_dir).string();
+  // The log is a temporary until the step ends: an interrupted step leaves no log cut short.
+  MadeFolder logs(log_path.parent_path());
+  scene::ScopedTemporary log(scene::temporaryName(log_path.string()));
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   pid_t pid = 0;
@@ -85,6 +106,10 @@ void runPipelineStep(PipelineStep& step, const fs::path& run_dir, const fs::path
   posix_spawn_file_actions_destroy(&actions);
   const int status = scene::waitChild(pid);
   step.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::error_code error;
+  fs::rename(log.path(), log_path, error);
+  if (!error) log.keep();
+  logs.keep();
   if (WIFEXITED(status)) {
     step.exit_status = WEXITSTATUS(status);
   } else {
@@ -108,6 +133,9 @@ void checkRunOptions(const RunOptions& opt) {
     throw UsageError("--speed: expected a positive playback speed, got " + formatNumber(*opt.speed));
   if (!(opt.video_seconds > 0) || !std::isfinite(opt.video_seconds))
     throw UsageError("--video-seconds: expected a positive duration, got " + formatNumber(opt.video_seconds));
+  if (!opt.speed && !(opt.video_seconds * opt.fps <= render::kMaxFrames))
+    throw UsageError("--video-seconds: " + formatNumber(opt.video_seconds) + " s at " + formatNumber(opt.fps) +
+                     " fps is " + formatNumber(opt.video_seconds * opt.fps, 3) + " frames, more than a million");
   if (opt.width < 2 || opt.height < 2 || opt.width > 8192 || opt.height > 8192 || opt.width % 2 || opt.height % 2)
     throw UsageError("--width/--height: expected even sizes of 2 … 8192 pixels (H.264), got " + std::to_string(opt.width) +
                      "x" + std::to_string(opt.height));
@@ -144,8 +172,9 @@ void announce(const PipelineStep& s, const fs::path& dir) {
 // tolerance while Saltus stays within it (every engine completed, charts drawn).
 void runReplayStep(PipelineStep& replay, const RunFolders& f) {
   std::error_code error;
-  fs::create_directories(f.replay);
+  MadeFolder folder(f.replay);
   runPipelineStep(replay, f.dir, f.dir / "logs" / "replay.log");
+  folder.keep();
   if (replay.exit_status == 2 && logTail(f.dir / "logs" / "replay.log", 5).find("unknown command") != std::string::npos)
     replay.note = "this saltus has no 'replay' command";
   std::vector<fs::path> replay_files{f.replay / "replay.json"};
@@ -181,8 +210,9 @@ void runReplayStep(PipelineStep& replay, const RunFolders& f) {
 // showing), else the middle one.
 void runRenderStep(PipelineStep& render, const RunFolders& f, double first_impulse, double speed, double fps) {
   std::error_code error;
-  fs::create_directories(f.render);
+  MadeFolder folder(f.render);
   runPipelineStep(render, f.dir, f.dir / "logs" / "render.log");
+  folder.keep();
   if (render.ok()) {
     std::vector<fs::path> frames;
     for (const auto& entry : fs::directory_iterator(f.frames, error)) frames.push_back(entry.path());
@@ -198,6 +228,7 @@ void runRenderStep(PipelineStep& render, const RunFolders& f, double first_impul
   }
   listOutputs(render, f.dir, {f.video, f.still});
   requireOutputs(render, f.dir, {f.video, f.still});
+  if (fs::is_empty(f.render, error)) fs::remove(f.render, error);  // nothing written: no empty folder
 }
 
 int run(const RunOptions& opt) {
@@ -219,8 +250,7 @@ int run(const RunOptions& opt) {
   facts.height = opt.height;
   const RunFolders f(fs::absolute(opt.out.empty() ? "out/run_" + facts.problem_word : opt.out).lexically_normal());
   std::error_code error;
-  if (fs::exists(f.dir, error) && !fs::is_directory(f.dir, error))
-    throw UsageError("--out " + f.dir.string() + ": exists and is not a directory");
+  checkOutputTarget("--out", f.dir.string(), OutputTarget::Folder);
   // A fresh run: the step folders and the report of an earlier run in DIR are removed first, so
   // that nothing stale is reported.
   for (const char* sub : {"optimize", "replay", "render", "charts", "logs"}) fs::remove_all(f.dir / sub);
@@ -228,7 +258,7 @@ int run(const RunOptions& opt) {
   // A folder made by this run goes again if the run is interrupted before its report.
   std::unique_ptr<scene::ScopedTemporary> made;
   if (!fs::exists(f.dir, error)) made = std::make_unique<scene::ScopedTemporary>(f.dir.string());
-  fs::create_directories(f.dir / "logs");
+  fs::create_directories(f.dir);
   const std::string saltus = thisProgram();
 
   // 1. optimize
@@ -284,10 +314,13 @@ int run(const RunOptions& opt) {
   } else {
     runReplayStep(steps.replay, f);
     runRenderStep(steps.render, f, first_impulse, facts.speed, opt.fps);
-    fs::create_directories(f.charts);
+    MadeFolder charts(f.charts);
     runPipelineStep(steps.charts, f.dir, f.dir / "logs" / "charts.log");
+    charts.keep();
     listOutputs(steps.charts, f.dir, {f.chart_png, f.chart_svg});
     requireOutputs(steps.charts, f.dir, {f.chart_png, f.chart_svg});
+    std::error_code error;
+    if (fs::is_empty(f.charts, error)) fs::remove(f.charts, error);
   }
   for (const PipelineStep* s : {&steps.replay, &steps.render, &steps.charts}) announce(*s, f.dir);
 

@@ -124,6 +124,7 @@ struct Problem {
   // the null seed perturbed with random_seed + k (a null seed).
   int restarts = 2;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
+  std::string seed_solution_origin;  // where it was given (file:line: solve.seed_solution, or --seed-from)
   bool exact_hessian = true;  // false: Ipopt's limited-memory quasi-Newton
   bool derivative_check = false;  // Ipopt's derivative checker (second order) before solving
   // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted

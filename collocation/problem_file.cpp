@@ -450,6 +450,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     fs::path path = r_.text(s, "solve.seed_solution");
     if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
     p_.seed_solution = path.lexically_normal().string();
+    p_.seed_solution_origin = origin(s) + ": solve.seed_solution";
   }
   if (p_.seed_kind == SeedKind::Solution && p_.seed_solution.empty())
     r_.fail(node, "solve.seed_solution",

@@ -85,10 +85,33 @@ std::string shortNumber(double x) {
 }
 }  // namespace
 
+void checkSameProblem(const SavedSolution& solution, bool allow_changed_problem) {
+  if (solution.problem_changed.empty() || allow_changed_problem) return;
+  throw SolutionError((solution.file.empty() ? "" : solution.file + ": ") + solution.problem_changed + "; re-solve it, or allow the changed problem explicitly (--allow-changed-problem; in Python "
+                      "allow_changed_problem=True)");
+}
+
+fs::path solutionFile(const std::string& path) {
+  const fs::path given = path;
+  std::error_code error;
+  const char* expected = "expected the --out folder of saltus optimize, or the variables.csv in it";
+  if (fs::is_directory(given, error)) {
+    const fs::path file = given / kFileName;
+    if (!fs::exists(file, error))
+      throw SolutionError(path + ": no " + std::string(kFileName) + " in this folder; " + expected);
+    return file;
+  }
+  // The other files saltus optimize writes beside it name the solution too.
+  const fs::path sibling = given.parent_path() / kFileName;
+  const bool beside = given.filename() == "trajectory.csv" || given.filename() == "summary.json";
+  if (beside && fs::exists(sibling, error)) return sibling;
+  if (!fs::exists(given, error)) throw SolutionError(path + ": no such solution; " + expected);
+  if (given.filename() == kFileName) return given;
+  throw SolutionError(path + ": not a solution; " + expected);
+}
+
 SavedSolution loadSolution(const std::string& path) {
-  fs::path file = path;
-  if (fs::is_directory(file) || (!fs::exists(file) && !file.has_extension())) file /= kFileName;
-  else if (file.filename() != kFileName) file = file.parent_path() / kFileName;
+  const fs::path file = solutionFile(path);
   std::ifstream in(file);
   if (!in)
     throw SolutionError(file.string() + ": cannot read the solution (saltus optimize writes variables.csv into its --out directory)");
@@ -123,11 +146,18 @@ SavedSolution loadSolution(const std::string& path) {
   s.file = file.string();
   std::string source = keys["source"];
   if (source.rfind(kBuiltinPrefix, 0) == 0) source = source.substr(std::string(kBuiltinPrefix).size());
-  s.problem = std::make_unique<Problem>(loadProblem(source, parameters));
+  try {
+    s.problem = std::make_unique<Problem>(loadProblem(source, parameters));
+  } catch (const std::exception& e) {
+    // the problem file's own message (with its line), under the solution that names it
+    std::string given;
+    for (const auto& [name, value] : parameters) given += (given.empty() ? "" : ", ") + name + " = " + shortNumber(value);
+    throw SolutionError(file.string() + ": source " + keys["source"] + (given.empty() ? "" : " with parameters " + given) +
+                        ": cannot rebuild the problem: " + e.what());
+  }
   if (keys.count("problem_fingerprint") && keys["problem_fingerprint"] != s.problem->fingerprint)
     s.problem_changed = "the problem " + keys["source"] + " (or its model file) changed since this solution was saved " +
-                        "(fingerprint " + keys["problem_fingerprint"] + ", now " + s.problem->fingerprint +
-                        "): the results use the problem as it is now";
+                        "(fingerprint " + keys["problem_fingerprint"] + ", now " + s.problem->fingerprint + ")";
   Method method;
   try {
     method = parseMethod(keys["method"]);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <memory>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -40,7 +41,7 @@ struct SavedSolution {
   std::unique_ptr<Transcription> transcription;  // refers to *problem
   Eigen::VectorXd x;
   // Not empty when the problem file, its model file or the parameters no longer give the
-  // fingerprint saved with the solution: what changed, to be shown to the user.
+  // fingerprint saved with the solution: what changed, to be shown to the user (checkSameProblem).
   std::string problem_changed;
   CollocationTrajectory trajectory() const { return CollocationTrajectory(*transcription, x); }
 };
@@ -48,9 +49,18 @@ struct SavedSolution {
 // Reads a solution from its directory (or from a file in it: trajectory.csv, summary.json,
 // variables.csv). Throws SolutionError naming the file and line for a missing file, a missing
 // or malformed key, a variable that is missing, repeated or unknown to the rebuilt
-// transcription, or a value that is not a finite number; errors from loading the problem
-// (scene::ScenarioError) pass through.
+// transcription, or a value that is not a finite number, or a problem that cannot be rebuilt
+// (its source or parameters; the problem file's own message follows).
 SavedSolution loadSolution(const std::string& path);
+
+// A solution whose problem changed since it was saved (problem_changed not empty) answers
+// questions about another problem: unless `allow_changed_problem`, throws SolutionError saying
+// what changed and how to go on.
+void checkSameProblem(const SavedSolution& solution, bool allow_changed_problem);
+
+// The variables.csv a solution path names: PATH/variables.csv for a folder, PATH itself when it is
+// named variables.csv. Throws SolutionError naming PATH as given when it is neither or is missing.
+std::filesystem::path solutionFile(const std::string& path);
 
 // A starting point for `target` from an earlier solution. With the same method and the same
 // variables (same mesh, scene and contacts) the values are copied by name; otherwise states,

@@ -23,7 +23,17 @@ Seeding makeSeeding(const Transcription& t) {
         kind = p.seed_kind == SeedKind::Simulation ? SeedKind::Null : SeedKind::Perturbed;
       }
       break;
-    case SeedKind::Solution: *base = seedFromSolution(t, loadSolution(p.seed_solution)); break;
+    case SeedKind::Solution: {
+      SavedSolution earlier;
+      try {
+        earlier = loadSolution(p.seed_solution);
+      } catch (const SolutionError& e) {
+        if (p.seed_solution_origin.empty()) throw;
+        throw SolutionError(p.seed_solution_origin + ": " + e.what());
+      }
+      *base = seedFromSolution(t, earlier);
+      break;
+    }
     case SeedKind::Null:
     case SeedKind::Perturbed: *base = t.nullSeed(); break;
   }

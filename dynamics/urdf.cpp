@@ -1,8 +1,8 @@
 #include "dynamics/urdf.hpp"
+#include "dynamics/urdf_text.hpp"
 
 #include <filesystem>
 
-#include <tinyxml.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -204,7 +204,7 @@ constexpr double kMaxVisualSize = 1e6;  // [m]: a robot's part (and a scale fact
 
 // A shape's sizes are positive and finite (a box's three edges, a cylinder's radius and length, a
 // sphere's radius; a mesh's scale finite and non-zero): a negative or NaN size draws nothing.
-void checkVisualSize(const Visual& v, const std::string& link, const std::string& source) {
+void checkVisualSize(const Visual& v, const std::string& link, const UrdfText& text) {
   const char* shapes[] = {"box", "cylinder", "sphere", "mesh"};
   const int used = v.shape == Visual::Shape::Box ? 3 : v.shape == Visual::Shape::Cylinder ? 2 : 1;
   const Eigen::Vector3d size = v.shape == Visual::Shape::Mesh ? v.mesh_scale : v.size;
@@ -215,13 +215,13 @@ void checkVisualSize(const Visual& v, const std::string& link, const std::string
   if (ok) return;
   std::ostringstream got;
   for (int i = 0; i < (v.shape == Visual::Shape::Mesh ? 3 : used); ++i) got << (i ? " " : "") << size[i];
-  fail(source, "link '" + link + "': visual " + shapes[static_cast<int>(v.shape)] +
+  fail(text.where("link", link, "visual"), "link '" + link + "': visual " + shapes[static_cast<int>(v.shape)] +
                    (v.shape == Visual::Shape::Mesh ? " scale: expected non-zero factors of at most 1000 in magnitude"
                                                    : " size: expected positive lengths of at most 1e6 m") +
                    ", got '" + got.str() + "'");
 }
 
-LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
+LinkSpec toLinkSpec(const urdf::Link& link, const UrdfText& text) {
   LinkSpec spec;
   spec.name = link.name;
   if (link.inertial) {
@@ -233,7 +233,13 @@ LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
            in.ixz, in.iyz, in.izz;
     // In a URDF a zero or singular inertia is an error: point masses are for the builder API.
     const std::string why = checkInertia(in.mass, I_I, /*allow_point_mass=*/false);
-    if (!why.empty()) fail(source, "link '" + link.name + "': " + why);
+    if (!why.empty()) {
+      const bool mass = why.rfind("mass", 0) == 0;
+      const std::string element = mass ? "inertial/mass" : "inertial/inertia";
+      const std::string as_written = text.written("link", link.name, element);
+      fail(text.where("link", link.name, element),
+           "link '" + link.name + "': " + why + (as_written.empty() ? "" : "; written " + as_written));
+    }
     // Link frame L: com at the inertial origin, I_L = R_LI I_I R_LIᵀ.
     const Eigen::Matrix3d R_LI = toRotation(in.origin.rotation);
     spec.has_inertial = true;
@@ -245,7 +251,7 @@ LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
   for (const urdf::VisualSharedPtr& v : link.visual_array) {
     Visual visual;
     if (v && toVisual(*v, visual)) {
-      checkVisualSize(visual, link.name, source);
+      checkVisualSize(visual, link.name, text);
       visual.link = link.name;
       spec.visuals.push_back(std::move(visual));
     }
@@ -253,7 +259,8 @@ LinkSpec toLinkSpec(const urdf::Link& link, const std::string& source) {
   return spec;
 }
 
-JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
+JointSpec toJointSpec(const urdf::Joint& joint, const UrdfText& text) {
+  const std::string source = text.where("joint", joint.name);
   JointSpec spec;
   spec.name = joint.name;
   switch (joint.type) {
@@ -276,6 +283,11 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
   spec.R_PJ = toRotation(joint.parent_to_joint_origin_transform.rotation);
   spec.p_PJ = toVector(joint.parent_to_joint_origin_transform.position);
   spec.axis = toVector(joint.axis);
+  // A zero axis, or one whose length underflows (1e-320 0 0), has no direction to normalise.
+  if (spec.type != LinkJointType::Fixed && spec.axis.allFinite() && !(spec.axis.norm() > 0))
+    fail(text.where("joint", joint.name, "axis"), "joint '" + joint.name +
+                                                   "': axis must be a non-zero vector of normal length, got " +
+                                                   text.written("joint", joint.name, "axis"));
   if (joint.limits) {
     spec.limits.velocity = joint.limits->velocity;
     spec.limits.effort = joint.limits->effort;
@@ -283,8 +295,9 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
     for (const auto& [name, value] : {std::pair<const char*, double>{"effort", spec.limits.effort},
                                       std::pair<const char*, double>{"velocity", spec.limits.velocity}})
       if (!(value >= 0) || !std::isfinite(value))
-        fail(source, "joint '" + joint.name + "': <limit " + name + ">: expected a non-negative, finite maximum, got " +
-                         std::to_string(value));
+        fail(text.where("joint", joint.name, "limit"), "joint '" + joint.name + "': <limit " + name +
+                                                            ">: expected a non-negative, finite maximum, got " +
+                                                            text.written("joint", joint.name, "limit"));
     if (spec.type == LinkJointType::Revolute || spec.type == LinkJointType::Prismatic) {
       spec.limits.lower = joint.limits->lower;
       spec.limits.upper = joint.limits->upper;
@@ -295,144 +308,10 @@ JointSpec toJointSpec(const urdf::Joint& joint, const std::string& source) {
 
 }  // namespace
 
-// ---- nesting depth, before urdfdom -------------------------------------------------------------
-
-// The deepest element nesting a URDF may have. A URDF nests a few levels (robot, link, visual,
-// geometry, mesh; gazebo extensions a few more); TinyXML, under urdfdom, parses recursively and
-// overflows the stack near 10^5 levels, so a deeper file is refused before it is parsed.
-constexpr int kMaxXmlDepth = 100;
-// A URDF is kilobytes (meshes are separate files); read whole, so its size is bounded first.
-constexpr std::uintmax_t kMaxUrdfBytes = 64u << 20;
-
-// Refuses XML whose elements nest deeper than kMaxXmlDepth, naming the line: a scan of the tags
-// (comments, CDATA, processing instructions and declarations skipped; quoted attribute values
-// may hold '>'). Malformed XML is left to the parser's own message.
-void checkXmlNesting(const std::string& xml, const std::string& source_name) {
-  int depth = 0, line = 1;
-  const std::size_t n = xml.size();
-  auto skipTo = [&](std::size_t from, const char* end) {
-    const std::size_t k = xml.find(end, from);
-    const std::size_t stop = k == std::string::npos ? n : k + std::strlen(end);
-    line += static_cast<int>(std::count(xml.begin() + static_cast<std::ptrdiff_t>(from),
-                                        xml.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
-    return stop;
-  };
-  for (std::size_t i = 0; i < n;) {
-    if (xml[i] == '\n') ++line;
-    if (xml[i] != '<') {
-      ++i;
-      continue;
-    }
-    if (xml.compare(i, 4, "<!--") == 0) {
-      i = skipTo(i + 4, "-->");
-    } else if (xml.compare(i, 9, "<![CDATA[") == 0) {
-      i = skipTo(i + 9, "]]>");
-    } else if (xml.compare(i, 2, "<?") == 0) {
-      i = skipTo(i + 2, "?>");
-    } else if (xml.compare(i, 2, "<!") == 0) {
-      i = skipTo(i + 2, ">");
-    } else if (xml.compare(i, 2, "</") == 0) {
-      depth = std::max(0, depth - 1);
-      i = skipTo(i + 2, ">");
-    } else {  // an opening tag: up to its '>' outside quotes; "/>" closes it at once
-      const int tag_line = line;
-      char quote = 0;
-      std::size_t j = i + 1;
-      for (; j < n && (quote || xml[j] != '>'); ++j) {
-        if (xml[j] == '\n') ++line;
-        if (quote ? xml[j] == quote : (xml[j] == '"' || xml[j] == '\'')) quote = quote ? 0 : xml[j];
-      }
-      if (j >= n) return;  // unterminated: the parser says so
-      if (xml[j - 1] != '/' && ++depth > kMaxXmlDepth)
-        fail(source_name + ":" + std::to_string(tag_line),
-             "XML elements nested deeper than " + std::to_string(kMaxXmlDepth) +
-                 " levels; a URDF nests a few (robot, link, visual, geometry, mesh)");
-      i = j + 1;
-    }
-  }
-}
-
-// Where urdfdom's complaint is, which it does not say: the line of the element it names
-// ("Link [a]", "joint [j]", a value "[nan]") and, for "element ixx is not …", the attribute after
-// it with its value as written. "file:LINE" (or the file alone when nothing is found) and a
-// suffix quoting the attribute.
-std::string urdfdomLocation(const std::string& xml, const std::string& source_name, const std::string& summary,
-                            std::string* quoted) {
-  std::size_t at = std::string::npos;
-  for (std::size_t open = summary.find('['); open != std::string::npos; open = summary.find('[', open + 1)) {
-    const std::size_t close = summary.find(']', open);
-    if (close == std::string::npos) break;
-    const std::string token = summary.substr(open + 1, close - open - 1);
-    if (token.empty()) continue;
-    for (const std::string& pattern : {"name=\"" + token + "\"", "\"" + token + "\""}) {
-      const std::size_t k = xml.find(pattern);
-      if (k != std::string::npos) {
-        at = k;
-        break;
-      }
-    }
-    if (at != std::string::npos) break;
-  }
-  const std::size_t element = summary.find("element ");
-  if (element != std::string::npos) {
-    const std::size_t end = summary.find(' ', element + 8);
-    const std::string attribute = summary.substr(element + 8, end == std::string::npos ? std::string::npos : end - element - 8);
-    const std::size_t k = xml.find(attribute + "=", at == std::string::npos ? 0 : at);
-    if (!attribute.empty() && k != std::string::npos) {
-      at = k;
-      const std::size_t q = k + attribute.size() + 1;
-      if (q < xml.size() && (xml[q] == '"' || xml[q] == '\'')) {
-        const std::size_t e = xml.find(xml[q], q + 1);
-        if (e != std::string::npos) *quoted = "; " + attribute + " is '" + xml.substr(q + 1, e - q - 1) + "'";
-      }
-    }
-  }
-  if (at == std::string::npos) return source_name;
-  return source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
-
-// Text that is not XML at all: urdfdom would say only "Error document empty".
-void checkXmlText(const std::string& xml, const std::string& source_name) {
-  if (xml.find_first_not_of(" \t\r\n") == std::string::npos)
-    fail(source_name, "the file is empty; expected a URDF (<robot name=...> with links and joints)");
-  const std::size_t nul = xml.find('\0');
-  if (nul != std::string::npos)
-    fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(nul), '\n')),
-         "a NUL byte at offset " + std::to_string(nul) + ": binary content, expected a URDF (XML text)");
-  // well-formed UTF-8: TinyXML steps over the end of the text after a cut multi-byte character
-  int line = 1;
-  for (std::size_t i = 0; i < xml.size();) {
-    const unsigned char c = static_cast<unsigned char>(xml[i]);
-    if (c == '\n') ++line;
-    const int extra = c < 0x80 ? 0 : (c >> 5) == 0x6 ? 1 : (c >> 4) == 0xE ? 2 : (c >> 3) == 0x1E ? 3 : -1;
-    bool ok = extra >= 0 && i + static_cast<std::size_t>(extra) < xml.size();
-    for (int k = 1; ok && k <= extra; ++k) ok = (static_cast<unsigned char>(xml[i + static_cast<std::size_t>(k)]) >> 6) == 0x2;
-    if (!ok)
-      fail(source_name + ":" + std::to_string(line),
-           "a byte that is not UTF-8 text at offset " + std::to_string(i) + "; expected a URDF (XML in UTF-8)");
-    i += static_cast<std::size_t>(extra) + 1;
-  }
-  const std::size_t bom = xml.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;  // a byte-order mark, exactly
-  const std::size_t first = xml.find_first_not_of(" \t\r\n", bom);
-  if (first == std::string::npos)
-    fail(source_name, "the file is empty; expected a URDF (<robot name=...> with links and joints)");
-  if (xml[first] != '<')
-    fail(source_name + ":" + std::to_string(1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(first), '\n')),
-         "expected a URDF (XML starting with '<'), got text starting with '" + xml.substr(first, 12) + "'");
-}
 
 ModelBuilder readUrdfString(const std::string& xml, const std::string& source_name) {
   // Parse with urdfdom; on failure explain a closed loop ourselves, then quote the parser.
-  checkXmlText(xml, source_name);
-  checkXmlNesting(xml, source_name);
-  {
-    // The XML syntax, with the row TinyXML (urdfdom's parser) stopped at, which urdfdom drops.
-    TiXmlDocument document;
-    document.Parse(xml.c_str(), nullptr, TIXML_ENCODING_UTF8);
-    if (document.Error())
-      fail(source_name + ":" + std::to_string(std::max(1, document.ErrorRow())),
-           std::string("not well-formed XML (") + document.ErrorDesc() + "); expected a URDF");
-  }
+  const UrdfText text(xml, source_name);  // text, nesting, XML syntax, number ranges
   std::vector<ParserMessage> messages;
   const urdf::ModelInterfaceSharedPtr urdf_model = parseWithUrdfdom(xml, messages);
   if (!urdf_model) {
@@ -441,7 +320,7 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
       fail(source_name, "kinematic loop: links " + loop + " (child -> parent) close a circle, so "
                             "there is no root link (urdfdom: " + summarise(messages) + ")");
     std::string quoted;
-    const std::string where = urdfdomLocation(xml, source_name, summarise(messages), &quoted);
+    const std::string where = text.urdfdomLocation(summarise(messages), &quoted);
     fail(where, "not a valid URDF (urdfdom: " + summarise(messages) + ")" + quoted);
   }
   // urdfdom reports some bad elements (a box size of "1 nan 1") as errors and drops them,
@@ -449,7 +328,7 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
   for (const ParserMessage& m : messages)
     if (m.level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
       std::string quoted;
-      const std::string where = urdfdomLocation(xml, source_name, summarise(messages), &quoted);
+      const std::string where = text.urdfdomLocation(summarise(messages), &quoted);
       fail(where, "not a valid URDF (urdfdom: " + summarise(messages) + ")" + quoted);
     }
 
@@ -466,8 +345,8 @@ ModelBuilder readUrdfString(const std::string& xml, const std::string& source_na
   ModelBuilder builder(urdf_model->getName());
   builder.setSource(source_name);
   builder.requireInertials(true);  // a moving URDF link without <inertial> is an error
-  for (const auto& [name, link] : urdf_model->links_) builder.addLink(toLinkSpec(*link, source_name));
-  for (const auto& [name, joint] : urdf_model->joints_) builder.addJoint(toJointSpec(*joint, source_name));
+  for (const auto& [name, link] : urdf_model->links_) builder.addLink(toLinkSpec(*link, text));
+  for (const auto& [name, joint] : urdf_model->joints_) builder.addJoint(toJointSpec(*joint, text));
   return builder;
 }
 

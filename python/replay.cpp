@@ -29,8 +29,9 @@ render::AnimationOptions animationOptions(double fps, double speed, int width, i
   return o;
 }
 
-RenderInput renderInput(const std::string& path, const py::object& scene, const std::map<std::string, double>& set) {
-  if (scene.is_none()) return openSolution(path);
+RenderInput renderInput(const std::string& path, const py::object& scene, const std::map<std::string, double>& set,
+                        bool allow_changed_problem = false) {
+  if (scene.is_none()) return openSolution(path, allow_changed_problem);
   const scene::Scene s =
       py::isinstance<py::str>(scene) ? loadScene(scene.cast<std::string>(), set) : *scene.cast<std::shared_ptr<scene::Scene>>();
   return openTrajectoryCsv(path, s);
@@ -42,7 +43,7 @@ void bindReplay(py::module_& m) {
   m.def(
       "replay",
       [](const std::string& solution, const std::string& out, const std::string& engine, double dt, double theta,
-         const std::string& feedback, double kp, double kd, double tolerance, bool charts) {
+         const std::string& feedback, double kp, double kd, double tolerance, bool charts, bool allow_changed_problem) {
         verify::ReplayOptions o;
         o.engines = verify::parseEngines(engine);
         o.dt = dt;
@@ -55,7 +56,7 @@ void bindReplay(py::module_& m) {
         std::string chart_error;
         {
           py::gil_scoped_release release;
-          r = saltus::replay(solution, o);
+          r = saltus::replay(solution, o, allow_changed_problem);
           if (!out.empty()) chart_error = writeReplay(out, r, solution, charts);
         }
         py::dict d;
@@ -83,19 +84,22 @@ void bindReplay(py::module_& m) {
       },
       py::arg("solution"), py::kw_only(), py::arg("out") = "", py::arg("engine") = "saltus", py::arg("dt") = 1e-4,
       py::arg("theta") = 0.5, py::arg("feedback") = "none", py::arg("kp") = 100.0, py::arg("kd") = 20.0,
-      py::arg("tolerance") = 0.0, py::arg("charts") = true,
+      py::arg("tolerance") = 0.0, py::arg("charts") = true, py::arg("allow_changed_problem") = false,
       "Replays a saved solution (a Solution.save / `saltus optimize` folder) from its initial state in the "
       "time-stepper ('saltus'), Bullet ('bullet') or 'both', driven by its inputs, as `saltus replay`; with `out`, "
       "writes replay.csv, replay.json and the charts there. Returns a dict: within_tolerance, tolerance [m or rad] "
-      "(0: 10 m/s × dt), steps, and per engine its deviations, penetration and matched events.");
+      "(0: 10 m/s × dt), steps, and per engine its deviations, penetration and matched events. A solution whose "
+      "problem file changed since the solve raises ValueError unless allow_changed_problem.");
 
   m.def(
       "render",
       [](const std::string& trajectory, const std::string& video, const std::string& frames, const py::object& scene,
          const std::map<std::string, double>& set, double fps, double speed, int width, int height, int antialias,
-         const std::string& camera) {
+         const std::string& camera, bool allow_changed_problem) {
         if (video.empty() && frames.empty()) throw std::invalid_argument("nothing to write: give video and/or frames");
-        const RenderInput input = renderInput(trajectory, scene, set);
+        const RenderInput input = renderInput(trajectory, scene, set, allow_changed_problem);
+        if (!input.problem_changed.empty())
+          PyErr_WarnEx(PyExc_UserWarning, (input.problem_changed + ": drawn in the problem as it is now").c_str(), 1);
         const render::AnimationOptions o = animationOptions(fps, speed, width, height, antialias, camera);
         std::ostringstream warnings;
         RenderReport r;
@@ -109,6 +113,7 @@ void bindReplay(py::module_& m) {
       py::arg("trajectory"), py::kw_only(), py::arg("video") = "", py::arg("frames") = "", py::arg("scene") = py::none(),
       py::arg("set") = std::map<std::string, double>{}, py::arg("fps") = 60.0, py::arg("speed") = 1.0,
       py::arg("width") = 1280, py::arg("height") = 720, py::arg("antialias") = 1, py::arg("camera") = "auto",
+      py::arg("allow_changed_problem") = false,
       "Draws a saved solution folder, or a trajectory CSV in `scene`, off-screen into an H.264 MP4 (`video`) "
       "and/or PNG frames (`frames` folder), as `saltus render`; returns the number of frames.");
 

@@ -175,9 +175,10 @@ void bindScenes(py::module_& m) {
   m.def(
       "simulate",
       [](const py::object& scene, double dt, double duration, double theta, const std::string& solver,
-         const Parameters& set) {
+         const Parameters& set, long every) {
         const ScenePtr s = sceneOf(scene, set);
         SimulateOptions o;
+        o.every = every;
         o.dt = dt;
         o.duration = duration;
         o.theta = theta;
@@ -186,9 +187,10 @@ void bindScenes(py::module_& m) {
         return saltus::simulate(*s, o);
       },
       py::arg("scene"), py::kw_only(), py::arg("dt") = 1e-3, py::arg("duration") = 0.0, py::arg("theta") = 1.0,
-      py::arg("solver") = "lemke", py::arg("set") = Parameters{},
+      py::arg("solver") = "lemke", py::arg("set") = Parameters{}, py::arg("every") = 1,
       "Runs the time-stepper on a scene (a Scene, or a built-in name or file with `set` overrides) for "
-      "`duration` seconds (0: the scene's) at step dt [s]; returns a Simulation.");
+      "`duration` seconds (0: the scene's) at step dt [s]; returns a Simulation. `every` keeps the samples at "
+      "t = 0, after every `every`-th step and after the last (as `saltus simulate --every`).");
 }
 
 }  // namespace saltus::python

@@ -46,7 +46,7 @@ Animation::Animation(const scene::Scene& scene, const TrajectorySource& source, 
   const double t0 = source.startTime(), t1 = source.endTime();
   const double step = options.speed / options.fps;
   const double frames = std::floor((t1 - t0) / step + 1e-9) + 1;
-  if (!(frames <= 1e6)) {
+  if (!(frames <= kMaxFrames)) {
     char what[256];
     std::snprintf(what, sizeof what,
                   "speed: %g s of trajectory (t = %g ... %g s) at speed %g and %g fps is %.3g frames, more than a "

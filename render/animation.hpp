@@ -25,6 +25,9 @@ enum class CameraMode { Auto, Follow, Side, Top };
 // "auto", "follow", "side", "top"; throws std::invalid_argument listing them.
 CameraMode parseCameraMode(const std::string& name);
 
+// The most frames an animation draws (an hour at 280 fps): more is a mistake of speed or fps.
+constexpr double kMaxFrames = 1e6;
+
 struct AnimationOptions {
   double fps = 60;     // frames per second of video
   double speed = 1;    // trajectory seconds per video second (0.25: four times slower)

@@ -40,6 +40,7 @@ class CollocationSource : public render::TrajectorySource {
   const scene::Scene& scene() const { return solution_.problem->scene; }
   // Not empty when the problem changed since the solve (collocation::SavedSolution).
   const std::string& problemChanged() const { return solution_.problem_changed; }
+  const collocation::SavedSolution& solution() const { return solution_; }
   const collocation::CollocationTrajectory& trajectory() const { return trajectory_; }
 
  private:

@@ -37,6 +37,7 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   if (!options.seed_from.empty()) {
     problem.seed_kind = SeedKind::Solution;
     problem.seed_solution = options.seed_from;
+    problem.seed_solution_origin = "--seed-from";
   }
   if (options.seed_scale) {
     if (!(*options.seed_scale >= 0) || !std::isfinite(*options.seed_scale))

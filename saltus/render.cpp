@@ -47,7 +47,7 @@ scene::Scene sceneOfSolutionDirectory(const fs::path& dir) {
 
 }  // namespace
 
-RenderInput openSolution(const std::string& dir) {
+RenderInput openSolution(const std::string& dir, bool allow_changed_problem) {
   const fs::path path(dir);
   std::error_code error;
   if (!fs::is_directory(path, error)) throw std::runtime_error(dir + ": not a 'saltus optimize' output directory");
@@ -56,6 +56,7 @@ RenderInput openSolution(const std::string& dir) {
     // The collocation polynomials between the points; the scene of the rebuilt problem.
     auto collocation = std::make_shared<const CollocationSource>(CollocationSource::load(dir));
     input.scene = collocation->scene();
+    collocation::checkSameProblem(collocation->solution(), allow_changed_problem);
     input.problem_changed = collocation->problemChanged();
     input.trajectory = std::move(collocation);
   } else {  // an older output directory: straight lines between the CSV rows

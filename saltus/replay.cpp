@@ -175,8 +175,9 @@ nlohmann::ordered_json reportJson(const ReplayResult& r, const std::string& dir)
 
 }  // namespace
 
-ReplayResult replay(const std::string& solution_dir, const verify::ReplayOptions& options) {
+ReplayResult replay(const std::string& solution_dir, const verify::ReplayOptions& options, bool allow_changed_problem) {
   const collocation::SavedSolution solution = collocation::loadSolution(solution_dir);
+  collocation::checkSameProblem(solution, allow_changed_problem);
   return verify::replay(solution, options);
 }
 

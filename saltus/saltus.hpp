@@ -188,7 +188,8 @@ void saveSolution(const std::string& dir, const OptimizeResult& result);
 // Replay of an optimised trajectory in the time-stepper and/or Bullet (verify/replay.hpp)
 
 // Replays the solution in DIR (a saveSolution folder).
-verify::ReplayResult replay(const std::string& solution_dir, const verify::ReplayOptions& options);
+verify::ReplayResult replay(const std::string& solution_dir, const verify::ReplayOptions& options,
+                            bool allow_changed_problem = false);
 
 // Writes OUT/replay.csv (the time series), OUT/replay.json (the report) and, with charts, the
 // deviation and energy charts (replay_deviation.png/.svg, replay_energy.png/.svg through
@@ -208,7 +209,9 @@ struct RenderInput {
 };
 // A saveSolution folder: through the collocation polynomials (a folder without
 // variables.csv: its trajectory.csv and the scene named by its summary.json).
-RenderInput openSolution(const std::string& dir);
+// A solution whose problem file changed since the solve is refused (collocation::SolutionError)
+// unless `allow_changed_problem`; then RenderInput::problem_changed says what changed.
+RenderInput openSolution(const std::string& dir, bool allow_changed_problem = false);
 // A trajectory CSV in the scene it was computed in.
 RenderInput openTrajectoryCsv(const std::string& csv_path, scene::Scene scene);
 

@@ -57,36 +57,48 @@ void onSignal(int signal) {
 }
 
 // Stops a child's process group: SIGTERM, then SIGKILL when it has not ended within the grace time.
-void stopGroup(pid_t pid) {
-  ::kill(-pid, SIGTERM);
+// Stops the children's process groups: SIGTERM to all at once (a saltus child then removes its own
+// temporaries and stops its children), SIGKILL to what is left after 3 s.
+void stopGroups(const std::vector<pid_t>& pids) {
+  for (pid_t pid : pids) ::kill(-pid, SIGTERM);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
-  for (;;) {
-    int status = 0;
-    const pid_t r = ::waitpid(pid, &status, WNOHANG);
-    if (r == pid || (r < 0 && errno == ECHILD)) break;  // ended (or reaped by the main thread)
-    if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(-pid, SIGKILL);
-      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      break;
-    }
+  std::vector<pid_t> running = pids;
+  while (!running.empty()) {
+    std::erase_if(running, [](pid_t pid) {
+      int status = 0;
+      const pid_t r = ::waitpid(pid, &status, WNOHANG);
+      return r == pid || (r < 0 && errno == ECHILD);  // ended (or reaped by the main thread)
+    });
+    if (running.empty() || std::chrono::steady_clock::now() > deadline) break;
     ::usleep(10000);
   }
-  ::kill(-pid, SIGKILL);  // what the group's leader left running
+  for (pid_t pid : running) {
+    ::kill(-pid, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
+  for (pid_t pid : pids) ::kill(-pid, SIGKILL);  // what the groups' leaders left running
 }
 
-[[noreturn]] void cleanUpAndExit(const std::string& program, int signal) {
-  g_interrupting = true;
-  registryMutex().lock();  // held until _exit
-  // Temporaries first (a child stopped by force after its grace time cannot hold them up), then
-  // the children, which remove their own.
+std::size_t removeTemporaries() {
   std::size_t removed = 0;
   for (const std::string& path : temporaries()) {
     std::error_code error;
     removed += fs::remove_all(path, error) > 0;
   }
+  return removed;
+}
+
+[[noreturn]] void cleanUpAndExit(const std::string& program, int signal) {
+  g_interrupting = true;
+  registryMutex().lock();  // held until _exit
+  // The children first, so that none writes into a folder after it was removed; then the
+  // temporaries (the children removed their own; one killed after its grace time leaves its
+  // own for the next run in that folder: removeStaleTemporaries).
   const std::size_t n_children = children().size();
-  for (pid_t pid : children()) stopGroup(pid);
+  stopGroups(children());
+  const std::size_t removed = removeTemporaries();
   std::string message = program + ": interrupted by " + (signal == SIGINT ? "SIGINT" : "SIGTERM");
   if (n_children > 0) message += "; stopped " + std::to_string(n_children) + " child process" + (n_children > 1 ? "es" : "");
   if (removed > 0) message += "; removed " + std::to_string(removed) + " unfinished file" + (removed > 1 ? "s" : "");

@@ -1,5 +1,7 @@
 #include "scene/trajectory_csv.hpp"
 
+#include "scene/scenario.hpp"  // kMaxPosition
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -158,6 +160,13 @@ TrajectoryTable readTrajectoryCsv(const std::string& path) {
       const double x = std::strtod(s, &end);
       if (end == s || *end != '\0' || !std::isfinite(x))
         throw std::runtime_error(where + "column '" + header[i] + "': expected a finite number, got '" + fields[i] + "'");
+      // Plausible sizes: a time of 1e308 s, or a coordinate of 1e308 m, is finite but draws and
+      // frames nothing (the frame count, the camera's distance overflow).
+      const bool time = i == 0, coordinate = header[i].rfind("q.", 0) == 0;
+      if ((time && std::abs(x) > kMaxTrajectoryTime) || (coordinate && std::abs(x) > kMaxPosition))
+        throw std::runtime_error(where + "column '" + header[i] + "': " + fields[i] + " is beyond the bound of " +
+                                 (time ? "1e9 s on times" : "1e6 m or rad on coordinates") +
+                                 " (scene/trajectory_csv.hpp); expected a trajectory of a robot");
       table.cells_.push_back(x);
     }
     const double t = table.cells_[table.cells_.size() - header.size()];

@@ -94,8 +94,13 @@ class TrajectoryTable {
   std::vector<double> cells_;  // row-major
 };
 
+// The largest time a trajectory file may hold [s] (some 30 years); coordinates are bounded by
+// kMaxPosition (scene/scenario.hpp).
+constexpr double kMaxTrajectoryTime = 1e9;
+
 // Reads a trajectory file: a header whose first column is t and whose names are distinct, then
-// rows of as many finite numbers, times not decreasing (two rows with one t are a velocity jump);
+// rows of as many finite numbers (times and coordinates within their bounds), times not
+// decreasing (two rows with one t are a velocity jump);
 // blank lines are skipped. Throws std::runtime_error naming the file, the line and the column:
 // "traj.csv:7: column 'q.z': expected a finite number, got 'nan'".
 TrajectoryTable readTrajectoryCsv(const std::string& path);

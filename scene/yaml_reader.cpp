@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -261,7 +262,23 @@ std::string YamlReader::text(const YAML::Node& n, const std::string& path) const
 
 double YamlReader::evaluate(const std::string& expr, const YAML::Node& at, const std::string& path) {
   double x;
-  if (plainNumber(expr, x)) return x;
+  if (plainNumber(expr, x)) {
+    // strtod reads 1e-400 as 0 (and 1e400 as inf, which plainNumber refuses): a value the
+    // conversion changed is reported as written, not as the 0 a later check would see.
+    if (x == 0 && expr.find_first_of("123456789") < expr.find_first_of("eE"))
+      fail(at, path, "'" + expr + "' is out of the range of a double (it would be read as 0); expected a number of "
+                     "magnitude above 4.9e-324, or 0");
+    return x;
+  }
+  {
+    errno = 0;
+    char* end = nullptr;
+    const double y = std::strtod(expr.c_str(), &end);
+    if (end == expr.c_str() + expr.size() && errno == ERANGE && std::isinf(y) &&
+        expr.find_first_of("xXpP") == std::string::npos)
+      fail(at, path, "'" + expr + "' is out of the range of a double (it would be read as infinite); expected a "
+                     "number of magnitude below 1.8e308");
+  }
   const std::string bad = checkExpressionText(expr);
   if (!bad.empty()) fail(at, path, "bad expression '" + expr + "': " + bad);
   try {
@@ -273,7 +290,19 @@ double YamlReader::evaluate(const std::string& expr, const YAML::Node& at, const
     fail(at, path, "bad expression '" + expr + "': " + e.GetMsg() +
                        " (known names: parameters " + joinNames(names) + "; constant pi)");
   }
-  if (!std::isfinite(x)) fail(at, path, "expression '" + expr + "' evaluates to " + fmt(x));
+  if (!std::isfinite(x)) {
+    // the parameters it uses, with their values and where a value came from (--set)
+    std::string used;
+    for (const auto& [name, value] : params_) {
+      for (std::size_t k = expr.find(name); k != std::string::npos; k = expr.find(name, k + 1)) {
+        const auto word = [&](std::size_t i) { return i < expr.size() && (std::isalnum(static_cast<unsigned char>(expr[i])) || expr[i] == '_'); };
+        if ((k > 0 && word(k - 1)) || word(k + name.size())) continue;
+        used += (used.empty() ? " with " : ", ") + name + " = " + fmt(value) + (overrides_.count(name) ? " (--set)" : "");
+        break;
+      }
+    }
+    fail(at, path, "expression '" + expr + "' evaluates to " + fmt(x) + used);
+  }
   return x;
 }
 

@@ -1257,7 +1257,7 @@ def gen_solution():
     prob = dump(PROBLEM)
     prep = [["optimize", "prob.yaml", "--out", "sol"]]
     for name, new, desc, valid in [
-        ("mass", prob.replace("mass: 1,", "mass: 2,"), "the model's mass changed from 1 to 2 kg", False),
+        ("mass", prob.replace("mass: 1\n", "mass: 2\n"), "the model's mass changed from 1 to 2 kg", False),
         ("N", prob.replace("N: 10", "N: 12"), "mesh.N changed from 10 to 12", False),
         ("contact", prob.replace("surface_velocity:", "surface_velocity_removed:").replace(
             "contacts:\n  - name: block", "contacts: []\nx_contacts:\n  - name: block"), "the contact removed", False),
@@ -1265,6 +1265,7 @@ def gen_solution():
         ("default", prob.replace("d: 0.1", "d: 0.2"),
          "either: a parameter's default changed (the solution records the values it used)", "either"),
     ]:
+        assert new is None or new != prob, f"problem-changed-{name}: the edit changes nothing"
         for which, cmd in [("replay", rep), ("render", ren)]:
             if which == "render" and name not in ("N", "deleted"):
                 continue

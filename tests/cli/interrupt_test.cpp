@@ -167,7 +167,19 @@ TEST_F(InterruptTest, AKilledRunTakesItsChildWithIt) {
   EXPECT_EQ(stop(pid, SIGKILL), -SIGKILL);
   // the child saltus gets SIGTERM as its parent dies (SALTUS_PARENT_PID) and cleans up
   EXPECT_TRUE(waitFor([&] { return processesUsingFolder() == 0; }));
-  EXPECT_TRUE(waitFor([&] { return temporaries().empty(); }));
+  // What is left is the killed parent's own (the running step's log), which the next saltus
+  // writing into that folder removes.
+  const std::string parent = ".tmp-" + std::to_string(pid) + "@";
+  EXPECT_TRUE(waitFor([&] {
+    for (const std::string& t : temporaries())
+      if (t.find(parent) == std::string::npos) return false;
+    return true;
+  })) << temporaries().front();
+  for (const std::string& t : temporaries()) {
+    const fs::path next = fs::path(t).parent_path() / "next.csv";
+    EXPECT_EQ(runSaltus({"simulate", "ball_drop", "--duration", "0.01", "--out", next.string()}).status, 0);
+  }
+  EXPECT_TRUE(temporaries().empty()) << temporaries().front();
 }
 
 }  // namespace
@@ -193,6 +205,19 @@ TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
       {{"optimize", "point_mass_drop", "--N", "", "--out", out}, "--N: expected a value, got an empty string"},
       {{"optimize", "point_mass_drop", "--seed=", "--out", out}, "--seed: expected a value"},
       {{"optimize", "point_mass_drop", "--seed", "-1", "--out", out}, "--seed: expected a whole number of 0 or more, got '-1'"},
+      // the value as written, not as converted (1e400 is read as inf)
+      {{"simulate", "ball_drop", "--dt", "1e400", "--out", out}, "got inf (written '1e400')"},
+      {{"optimize", "point_mass_drop", "--seed-scale", "-1", "--out", out}, "--seed-scale: expected a non-negative number, got '-1'"},
+      {{"optimize", "point_mass_drop", "--set", "height=-1", "--out", out}, "evaluates to -nan with height = -1 (--set)"},
+      {{"optimize", "point_mass_drop", "--seed-from", (dir / "nowhere").string(), "--out", out}, "--seed-from: " + (dir / "nowhere").string() + ": no such solution"},
+      // output places that cannot be written, named by their option before any work
+      {{"run", "point_mass_drop", "--out", "/proc/saltus-test"}, "--out /proc/saltus-test: cannot write in /proc"},
+      {{"run", "point_mass_drop", "--video-seconds", "1e9", "--out", run_dir}, "--video-seconds: 1e+09 s at 30 fps is 3e+10 frames, more than a million, got '1e9'"},
+      {{"render", "nothing.csv", "--scene", "ball_drop", "--frames", "/proc/saltus-test"}, "--frames /proc/saltus-test: cannot write in /proc"},
+      {{"render", "nothing.csv", "--scene", "ball_drop", "--out", "/dev/null"}, "--out /dev/null: is a device or a pipe; expected a regular file"},
+      {{"bench", "work-precision", "ball_drop", "--dts", "1e-300", "--out", run_dir}, "--dts: dt: 1e-300 s over 3 s is too many steps"},
+      {{"bench", "work-precision", "ball_drop", "--out", "/proc/saltus-test"}, "--out /proc/saltus-test: cannot write in /proc"},
+      {{"bench", "per-step", "--scenes", "ball_drop,banana"}, "--scenes: 'banana': unknown built-in scene"},
   };
   for (const Case& c : cases) {
     const auto r = runSaltus(c.args);
@@ -203,7 +228,8 @@ TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
   fs::remove_all(dir);
 }
 
-// A solution records its problem's fingerprint; replay and render say when the problem changed.
+// A solution records its problem's fingerprint; replay and render refuse it when the problem
+// changed, unless told to go on (then with a warning).
 TEST(BeforeAnyWork, ReplaySaysWhenTheProblemChanged) {
   const fs::path dir = saltus::testing::scratchPath("changed", "problem");
   fs::create_directories(dir);
@@ -213,10 +239,21 @@ TEST(BeforeAnyWork, ReplaySaysWhenTheProblemChanged) {
   auto r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
   EXPECT_EQ(r.err.find("changed since this solution was saved"), std::string::npos) << r.err;
   std::ofstream(problem, std::ios::app) << "# edited\n";
+  const std::string changed = "the problem " + problem.string() + " (or its model file) changed since this solution was saved";
+  fs::remove_all(dir / "rep");
   r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
-  EXPECT_NE(r.err.find("warning: the problem " + problem.string() + " (or its model file) changed since this solution was saved"),
-            std::string::npos)
-      << r.err;
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find((dir / "sol" / "variables.csv").string() + ": " + changed), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--allow-changed-problem"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "rep"));
+  r = runSaltus({"render", (dir / "sol").string(), "--frames", (dir / "frames").string(), "--width", "32", "--height", "32"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(changed), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "frames"));
+  r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string(),
+                 "--allow-changed-problem"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + changed), std::string::npos) << r.err;
   fs::remove_all(dir);
 }
 

@@ -94,7 +94,7 @@ TEST(Optimize, SeedFromAMissingSolutionIsAnError) {
   const fs::path dir = freshDir("seed_missing");
   const auto r = runSaltus({"optimize", "point_mass_drop", "--seed-from", "/nonexistent/run", "--out", dir.string()});
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("/nonexistent/run/variables.csv: cannot read the solution"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--seed-from: /nonexistent/run: no such solution"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir)) << "nothing written before the solve";
 }
 

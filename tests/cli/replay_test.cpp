@@ -5,6 +5,7 @@
 // without variables.csv and a failing chart step (exit 1, CSV and JSON kept).
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -152,7 +153,16 @@ TEST(ReplayCommand, RefusesBadArguments) {
   fs::create_directories(empty);
   r = runSaltus({"replay", empty.string(), "--out", out.string()});
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("variables.csv: cannot read the solution"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(": no variables.csv in this folder; expected the --out folder of saltus optimize"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  // A file that is not a solution is named as given (not as a variables.csv beside it).
+  const fs::path text = empty / "notes.txt";
+  std::ofstream(text) << "not a solution\n";
+  r = runSaltus({"replay", text.string(), "--out", out.string()});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(text.string() + ": not a solution; expected the --out folder"), std::string::npos) << r.err;
+  r = runSaltus({"replay", (empty / "gone").string(), "--out", out.string()});
+  EXPECT_NE(r.err.find((empty / "gone").string() + ": no such solution"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(empty);
 }

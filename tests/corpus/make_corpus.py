@@ -42,6 +42,14 @@ URDF = {
                  ["{path}", "at most 1e6 m", "1e+300"]),
     "deep_nesting": ('<?xml version="1.0"?>\n<robot name="r">\n' + "<a>" * 120 + "</a>" * 120 + "\n</robot>\n",
                      ["{path}:3:", "nested deeper than 100 levels"]),
+    # converted before checked: "mass must be positive, got 0" quoted a value never written
+    "mass_underflow": (urdf(inertial("1e-400")), ["{path}:5:", "'1e-400' is out of the range of a double"]),
+    "axis_underflow": (urdf(inertial(), '  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/>\n'
+                       '    <axis xyz="1e-320 0 0"/><limit lower="-1" upper="1" effort="10" velocity="3"/></joint>\n'),
+                       ["{path}:8:", "joint 'j': axis must be a non-zero vector", '<axis xyz="1e-320 0 0"/>']),
+    "entity_bomb": ('<?xml version="1.0"?>\n<!DOCTYPE robot [\n<!ENTITY a "aaaaaaaaaa">\n'
+                    + "".join('<!ENTITY ' + chr(98 + i) + ' "' + ("&" + chr(97 + i) + ";") * 10 + '">\n' for i in range(9))
+                    + ']>\n<robot name="&j;"><link name="l"/></robot>\n', ["{path}:2:", "a DTD with declarations"]),
 }
 
 SCENE_HEAD = open(os.path.join(ROOT, "models", "scenes", "ball_drop.yaml")).read()
@@ -55,6 +63,8 @@ SCENARIO = {
                       ["{path}:", "initial.v.z:", "at most 100000", "m/s", "-1e+308"]),
     "starts_inside_ground": (SCENE_HEAD.replace("height: 1.0 ", "height: -1.0"),
                              ["{path}:", ": initial: contact 'ball' starts 1 m inside surface 'ground'"]),
+    "mass_underflow": (SCENE_HEAD.replace("mass: ", "mass: 1e-400 #", 1),
+                       ["{path}:", "'1e-400' is out of the range of a double"]),
     "directions_huge": (SCENE_HEAD.replace("    friction: 0\n", "    friction: 0.5\n    directions: 100000000\n"),
                         ["{path}:", "directions:", "at most 64", "100000000"]),
     "duration_huge": (SCENE_HEAD + "duration: 1e20\n", None),  # read fine; the step count is the simulate's check
@@ -83,6 +93,8 @@ TRAJECTORY = {
     "overflow": (HEADER + ROW + "0.001,1e400,0,1,0,0,0,0\n", ["{path}:3:", "q.z", "'1e400'"]),
     "duplicate_column": (HEADER.replace("v.z", "q.z") + ROW, ["{path}:1:", "q.z"]),
     "decreasing_time": (HEADER + ROW + "0.002,1,0,1,0,0,0,0\n0.001,1,0,1,0,0,0,0\n", ["{path}:4:", "t"]),
+    "coordinate_huge": (HEADER + ROW + "0.001,1e308,0,1,0,0,0,0\n", ["{path}:3:", "q.z", "1e308 is beyond the bound"]),
+    "time_huge": (HEADER + ROW + "1e308,1,0,1,0,0,0,0\n", ["{path}:3:", "column 't'", "beyond the bound of 1e9 s"]),
     "nul_in_number": (HEADER + ROW + "0.001,0.5\x005,0,1,0,0,0,0\n", ["{path}:3:", "NUL byte"]),
 }
 

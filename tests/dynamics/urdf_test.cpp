@@ -204,7 +204,8 @@ TEST(UrdfErrors, NegativeLimitsAndShapeSizesAreRefused) {
   EXPECT_EQ(loadUrdfString(robot(good_limit, good_box)).nq(), 1);
   EXPECT_EQ(loadUrdfString(robot(good_limit, "<mesh filename=\"m.stl\" scale=\"-1 1 1\"/>")).nq(), 1);  // mirrored
   std::string what = errorOf([&] { loadUrdfString(robot("effort=\"-10\" velocity=\"3\"", good_box)); });
-  EXPECT_HAS(what, "joint 'j': <limit effort>: expected a non-negative, finite maximum, got -10");
+  EXPECT_HAS(what, "joint 'j': <limit effort>: expected a non-negative, finite maximum, got <limit ");
+  EXPECT_HAS(what, "effort=\"-10\"");  // as written
   what = errorOf([&] { loadUrdfString(robot("effort=\"10\" velocity=\"-3\"", good_box)); });
   EXPECT_HAS(what, "joint 'j': <limit velocity>");
   what = errorOf([&] { loadUrdfString(robot(good_limit, "<box size=\"-1 2 0\"/>")); });

@@ -38,3 +38,20 @@ def test_render_writes_frames_and_draws_the_same_in_memory(saved, tmp_path):
         renderer.draw(frames)
     with pytest.raises(ValueError, match="nothing to write"):
         saltus.render(str(saved))
+
+
+def test_a_solution_of_a_changed_problem_is_refused_unless_allowed(root, tmp_path):
+    problem = tmp_path / "drop.yaml"
+    problem.write_text((root / "models" / "problems" / "point_mass_drop.yaml").read_text())
+    saltus.optimize(str(problem)).save(str(tmp_path / "sol"))
+    assert saltus.replay(str(tmp_path / "sol"))["within_tolerance"]
+    problem.write_text(problem.read_text().replace("mass: 1.0", "mass: 2.0"))
+    with pytest.raises(ValueError, match="changed since this solution was saved.*allow_changed_problem"):
+        saltus.replay(str(tmp_path / "sol"))
+    with pytest.raises(ValueError, match="changed since this solution was saved"):
+        saltus.render(str(tmp_path / "sol"), frames=str(tmp_path / "frames"), width=32, height=32)
+    assert not (tmp_path / "frames").exists()
+    assert "engines" in saltus.replay(str(tmp_path / "sol"), allow_changed_problem=True)
+    with pytest.warns(UserWarning, match="changed since"):
+        saltus.render(str(tmp_path / "sol"), frames=str(tmp_path / "frames"), width=32, height=32,
+                      allow_changed_problem=True)

@@ -82,3 +82,18 @@ def test_objects_outlive_what_made_them():
     del model
     gc.collect()
     assert tau[0] == pytest.approx(9.81 * saltus.Model.from_scene("ball_drop").total_mass)
+
+
+def test_every_keeps_the_commands_rows_and_the_last_step(tmp_path, saltus_binary):
+    full = saltus.simulate("ball_drop", dt=1e-3, duration=0.1005)  # 101 steps (the last one shorter)
+    thinned = saltus.simulate("ball_drop", dt=1e-3, duration=0.1005, every=10)
+    assert thinned.t.shape == (12,)  # t = 0, steps 10, 20, ..., 100, and the last
+    np.testing.assert_array_equal(thinned.t[:-1], full.t[:-1:10])
+    np.testing.assert_array_equal(thinned.q[-1], full.q[-1])
+    thinned.save(str(tmp_path / "python.csv"))
+    subprocess.run([saltus_binary, "simulate", "ball_drop", "--dt", "1e-3", "--duration", "0.1005", "--every", "10",
+                    "--out", str(tmp_path / "cli.csv")], check=True, capture_output=True)
+    np.testing.assert_allclose(np.loadtxt(tmp_path / "python.csv", delimiter=",", skiprows=1),
+                               np.loadtxt(tmp_path / "cli.csv", delimiter=",", skiprows=1), rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError, match="every"):
+        saltus.simulate("ball_drop", every=0)

@@ -161,6 +161,31 @@ TEST(Scenario, OverrideOutsideTheValidRangeIsCaughtWhereTheParameterIsUsed) {
   EXPECT_TRUE(contains(what, "[0, 1]")) << what;
 }
 
+// A number a double cannot hold is refused as written (1e-400 would be read as 0, then reported
+// as "mass must be positive, got 0"); an expression that is not finite names the parameters it
+// used and which came from --set.
+TEST(ScenarioErrors, NumbersAreQuotedAsWritten) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("saltus_scenario_numbers_" + std::to_string(::getpid()) + ".yaml");
+  auto errorWith = [&](const std::string& mass, const std::map<std::string, double>& overrides = {}) {
+    std::ofstream(file) << "parameters: {m: 1}\nmodel:\n  point_mass:\n    mass: " << mass << "\n";
+    return errorOf([&] { loadScene(file.string(), overrides); });
+  };
+  std::string what = errorWith("1e-400");
+  EXPECT_TRUE(contains(what, ".yaml:4:11: model.point_mass.mass: '1e-400' is out of the range of a double (it would be read as 0)")) << what;
+  what = errorWith("-1e400");
+  EXPECT_TRUE(contains(what, "'-1e400' is out of the range of a double (it would be read as infinite)")) << what;
+  what = errorWith("sqrt(m - 2)");
+  EXPECT_TRUE(contains(what, "expression 'sqrt(m - 2)' evaluates to -nan with m = 1")) << what;
+  EXPECT_FALSE(contains(what, "(--set)")) << what;
+  what = errorWith("sqrt(m - 2)", {{"m", 1.5}});
+  EXPECT_TRUE(contains(what, "with m = 1.5 (--set)")) << what;
+  what = errorWith("0.0e5");  // zero written as zero: left to the mass check
+  EXPECT_FALSE(contains(what, "out of the range")) << what;
+  EXPECT_TRUE(contains(what, "mass")) << what;
+  std::filesystem::remove(file);
+}
+
 TEST(Scenario, UnknownOverrideListsTheParameters) {
   const std::string what = errorOf([] { loadScene("ball_drop", {{"heigth", 2.0}}); });
   // The message points at the scene's `parameters:` map.

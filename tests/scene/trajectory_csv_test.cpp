@@ -173,6 +173,13 @@ TEST_F(TrajectoryCsvTest, TheReaderRefusesABadFileNamingTheLineAndColumn) {
   EXPECT_EQ(refusal("first.csv", "q.z,t\n1,0\n"), d + "first.csv:1: expected the first column to be 't', got 'q.z'");
   EXPECT_EQ(refusal("empty.csv", ""), d + "empty.csv: empty file, expected a CSV header starting with 't'");
   EXPECT_EQ(refusal("blank_lines_and_crlf.csv", "t,q.z\r\n\n0,1\r\n"), "accepted");
+  // finite but beyond any robot: nothing could be drawn or framed
+  EXPECT_EQ(refusal("far.csv", "t,q.z\n0,1\n0.1,-1e308\n"),
+            d + "far.csv:3: column 'q.z': -1e308 is beyond the bound of 1e6 m or rad on coordinates "
+                "(scene/trajectory_csv.hpp); expected a trajectory of a robot");
+  EXPECT_NE(refusal("late.csv", "t,q.z\n0,1\n1e308,1\n").find("late.csv:3: column 't': 1e308 is beyond the bound of 1e9 s"),
+            std::string::npos);
+  EXPECT_EQ(refusal("bounds.csv", "t,q.z,v.z\n0,1e6,1e300\n1e9,-1e6,0\n"), "accepted");  // at the bounds; v unbounded
   EXPECT_NE(refusal("../nonexistent/x.csv", "").find("cannot read"), std::string::npos);
 }
 
