@@ -123,7 +123,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log_.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   try {
-    pid_ = scene::spawnChild(program_, arguments, {}, &actions);
+    pid_ = scene::spawnChild(program_, arguments, {}, &actions, scene::ChildStop::Kill);  // its video is a temporary
   } catch (const std::exception& e) {
     posix_spawn_file_actions_destroy(&actions);
     ::close(fds[0]);

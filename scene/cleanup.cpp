@@ -41,6 +41,10 @@ std::vector<pid_t>& children() {
   static std::vector<pid_t> v;
   return v;
 }
+std::set<pid_t>& killedAtOnce() {  // children whose whole output is a temporary (spawnChild)
+  static std::set<pid_t> v;
+  return v;
+}
 
 std::string hostName() {
   char name[256] = {};
@@ -58,9 +62,10 @@ void onSignal(int signal) {
 
 // Stops a child's process group: SIGTERM, then SIGKILL when it has not ended within the grace time.
 // Stops the children's process groups: SIGTERM to all at once (a saltus child then removes its own
-// temporaries and stops its children), SIGKILL to what is left after 3 s.
+// temporaries and stops its children; SIGKILL to one started with ChildStop::Kill), SIGKILL to
+// what is left after 3 s.
 void stopGroups(const std::vector<pid_t>& pids) {
-  for (pid_t pid : pids) ::kill(-pid, SIGTERM);
+  for (pid_t pid : pids) ::kill(-pid, killedAtOnce().count(pid) ? SIGKILL : SIGTERM);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);
   std::vector<pid_t> running = pids;
   while (!running.empty()) {
@@ -160,7 +165,8 @@ ScopedTemporary::~ScopedTemporary() {
 void ScopedTemporary::keep() { keep_ = true; }
 
 pid_t spawnChild(const std::string& program, const std::vector<std::string>& arguments,
-                 const std::vector<std::string>& environment, const posix_spawn_file_actions_t* actions) {
+                 const std::vector<std::string>& environment, const posix_spawn_file_actions_t* actions,
+                 ChildStop stop) {
   std::vector<std::string> args = arguments, env = environment;
   if (env.empty())
     for (char** e = environ; e && *e; ++e) env.emplace_back(*e);
@@ -196,6 +202,7 @@ pid_t spawnChild(const std::string& program, const std::vector<std::string>& arg
              ? ::posix_spawnp(&pid, program.c_str(), actions, &attributes, argv.data(), child_environment)
              : ::posix_spawn(&pid, program.c_str(), actions, &attributes, argv.data(), child_environment);
     if (rc == 0) children().push_back(pid);
+    if (rc == 0 && stop == ChildStop::Kill) killedAtOnce().insert(pid);
   }
   posix_spawnattr_destroy(&attributes);
   if (rc != 0) throw std::runtime_error("cannot start " + program + " (" + std::strerror(rc) + ")");
@@ -212,6 +219,7 @@ int waitChild(pid_t pid) {
   std::lock_guard<std::mutex> lock(registryMutex());
   auto& v = children();
   v.erase(std::remove(v.begin(), v.end(), pid), v.end());
+  killedAtOnce().erase(pid);
   return status;
 }
 

@@ -47,8 +47,13 @@ class ScopedTemporary {
 // stops it and everything it started. An empty `environment` passes this process's own;
 // `actions` may be null. Returns the pid; throws
 // std::runtime_error naming the program when it cannot be started.
+// How an interrupt stops a child: Terminate (SIGTERM, SIGKILL after 3 s: a saltus child cleans up
+// itself) or Kill (SIGKILL at once: a program whose output is all temporary, such as ffmpeg, which
+// on SIGTERM waits for the rest of its input).
+enum class ChildStop { Terminate, Kill };
 pid_t spawnChild(const std::string& program, const std::vector<std::string>& arguments,
-                 const std::vector<std::string>& environment, const posix_spawn_file_actions_t* actions);
+                 const std::vector<std::string>& environment, const posix_spawn_file_actions_t* actions,
+                 ChildStop stop = ChildStop::Terminate);
 // Waits for a child started by spawnChild (retrying on EINTR) and forgets it; returns the wait status.
 int waitChild(pid_t pid);
 

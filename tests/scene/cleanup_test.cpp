@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -123,6 +125,35 @@ TEST_F(CleanupTest, AChildLeadsItsOwnProcessGroupWithDefaultSignals) {
   const unsigned long ignored = std::stoul(mask, nullptr, 16);
   EXPECT_EQ(ignored & (1ul << (SIGPIPE - 1)), 0u) << mask;
   EXPECT_EQ(ignored & (1ul << (SIGINT - 1)), 0u) << mask;
+}
+
+// An interrupt stops a ChildStop::Kill child at once, even one that ignores SIGTERM (ffmpeg
+// reading frames from a pipe waits for the rest of them), and exits 143; a Terminate child that
+// ignores SIGTERM would hold the exit up by the 3 s grace time.
+TEST_F(CleanupTest, AnInterruptKillsAKillChildAtOnce) {
+  const fs::path pid_file = dir_ / "grandchild";
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t process = ::fork();
+  if (process == 0) {
+    ::alarm(10);  // a cleanup that never ends fails the test, not hangs it
+    installInterruptCleanup("cleanup_test");
+    const pid_t child = spawnChild("/bin/sh", {"sh", "-c", "trap '' TERM; while :; do sleep 1; done"}, {}, nullptr,
+                                   ChildStop::Kill);
+    std::ofstream(pid_file) << child;
+    ::raise(SIGTERM);
+    for (;;) ::pause();
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(process, &status, 0), process);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_LT(seconds, 2.0);  // not the 3 s grace of a Terminate child
+  pid_t child = 0;
+  std::ifstream(pid_file) >> child;
+  ASSERT_GT(child, 0);
+  EXPECT_EQ(::kill(child, 0), -1);  // gone (reaped by the cleanup)
+  EXPECT_EQ(errno, ESRCH);
 }
 
 TEST_F(CleanupTest, AProgramThatCannotStartIsNamed) {
