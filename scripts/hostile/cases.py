@@ -1273,6 +1273,11 @@ def gen_solution():
                 {"prob.yaml": prob}, prep=prep, post_prep={"prob.yaml": new}, valid=valid,
                 expect=[{"file": "prob.yaml", "keys": []}, {"file": "variables.csv", "keys": []},
                         {"path": "prob.yaml"}] if name != "deleted" else [{"path": "prob.yaml"}])
+    # told to go on: the changed problem is used, with a warning (valid controls)
+    for which, cmd in [("replay", rep), ("render", ren)]:
+        add("solution", f"{which}-problem-changed-allowed", f"valid control: {which} --allow-changed-problem after "
+            "a comment was added to the problem file", cmd + ["--allow-changed-problem"], {"prob.yaml": prob},
+            prep=prep, post_prep={"prob.yaml": prob + "# edited\n"}, valid=True)
 
 
 # --------------------------------------------------------------------------------------------

@@ -17,7 +17,8 @@ address-space limit (RLIMIT_AS) in the child. Outcomes:
   refused-valid     non-zero exit on a valid control
   half-written      a refused command changed its folder (new, changed or removed files), or an
                     interrupted one left temporaries, frames, empty or partial files, or its own
-                    outputs; or a second run after SIGKILL left the stale temporaries
+                    outputs; or a second run after SIGKILL left the stale temporaries or empty
+                    folders (SIGKILL cannot be handled: the killed run's leftovers are judged after it)
   check-failed      an extra check failed: /dev/null or /dev/stdout replaced, a symlink replaced,
                     processes left running after the command ended, exit 0 after an interruption,
                     the run after SIGKILL failed
@@ -472,8 +473,10 @@ def judge_interrupted(case, d, run, before, after):
         why = incomplete(d, rel, after[rel])
         if under(rel) and after[rel][0] != "dir":
             why = "output of the interrupted command"
-        if why == "temporary left behind" and killed:
-            continue  # judged after the second run
+        if why in ("temporary left behind", "empty folder left behind") and killed:
+            # SIGKILL cannot be handled: what the killed process had made (a temporary, a step
+            # folder it had just created) is judged after the second run, which must remove it
+            continue
         if why:
             problems.append({"outcome": "half-written", "reason": why, "detail": rel})
     if not case.get("may_remove"):
@@ -526,6 +529,9 @@ def classify(case, d, run, before, after, follow, after2, broken_devices, symlin
             stale = [rel for rel in after2 if any(".tmp" in part for part in rel.split(os.sep))]
             for rel in stale:
                 prob("half-written", "stale temporary not removed by a second run", rel)
+            for rel in after2:
+                if after2[rel][0] == "dir" and incomplete(d, rel, after2[rel]) == "empty folder left behind":
+                    prob("half-written", "empty folder not removed by a second run", rel)
             for p in ("crash",):
                 if follow.rc is not None and follow.rc < 0:
                     prob(p, f"second run killed by {signal.Signals(-follow.rc).name}")
