@@ -394,7 +394,7 @@ void addCommonOptions(CLI::App* app, BenchOptions& opt) {
   app->add_flag("--no-locate-impacts", opt.no_locate_impacts,
                 "Saltus: resolve impacts at the start of the step instead of at their located time within it");
   app->add_option("--solver", opt.solver, "LCP solver of the saltus stepper: lemke or pgs")->capture_default_str();
-  app->add_option("--engine", opt.engine, "Engine: saltus, bullet (btMultiBodyDynamicsWorld) or both")
+  app->add_option("--engine", opt.engine, "Engine: saltus, bullet (btMultiBodyDynamicsWorld), mujoco, both (saltus and bullet) or all")
       ->capture_default_str();
   app->add_option("--bullet-solver", opt.bullet_solver, "Bullet's solver: dantzig, lemke (MLCP) or si")
       ->capture_default_str();

@@ -59,7 +59,8 @@ StepperOptions stepperOptions(double dt, double theta, LcpMethod solver) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// engines: the saltus time-stepper and Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp)
+// engines: the saltus time-stepper, Bullet's btMultiBodyDynamicsWorld (verify/bullet_world.hpp) and MuJoCo
+// (verify/mujoco_world.hpp)
 
 std::vector<EngineKind> parseEngineOption(const std::string& value) {
   try {
@@ -83,6 +84,12 @@ std::string describe(const EngineOptions& setup) {
   if (setup.kind == EngineKind::Saltus)
     return std::string("saltus: theta ") + formatNumber(saltus.theta) + ", solver " + solverName(saltus.solver) +
            (saltus.locate_impacts ? ", impacts located within the step" : ", impacts at the step's start");
+  if (setup.kind == EngineKind::Mujoco) {
+    const verify::MujocoWorldOptions& m = setup.mujoco;
+    return std::string("mujoco: Euler, Newton solver, pyramidal cone, contact spring omega = 1/(") +
+           formatNumber(m.timeconst_steps) + " dt), impedance " + formatNumber(m.impedance) +
+           ", contact sphere radius " + formatNumber(m.contact_radius) + " m";
+  }
   return std::string("bullet: btMultiBodyDynamicsWorld, ") + verify::bulletSolverName(bullet.solver) +
          ", erp2 " + formatNumber(bullet.erp2) + ", restitution threshold " +
          formatNumber(bullet.restitution_threshold) + " m/s, contact sphere radius " +
@@ -97,6 +104,7 @@ EngineOptions engineSetup(EngineKind kind, double dt, double theta, LcpMethod so
   e.saltus.locate_impacts = locate_impacts;
   e.bullet.dt = dt;
   e.bullet.solver = bullet_solver;
+  e.mujoco.dt = dt;
   return e;
 }
 

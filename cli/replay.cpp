@@ -162,7 +162,7 @@ Command addReplayCommand(CLI::App& saltus) {
   CLI::App* app = saltus.add_subcommand(
       "replay", "Replay an optimised trajectory's inputs in the Saltus time-stepper and/or Bullet and report the deviation");
   app->add_option("dir", opt->dir, "a 'saltus optimize --out' directory (variables.csv)")->required();
-  app->add_option("--engine", opt->engine, "saltus (default), bullet or both");
+  app->add_option("--engine", opt->engine, "saltus (default), bullet, mujoco, both (saltus and bullet) or all");
   app->add_option("--dt", opt->dt, "time step [s] (default 1e-4)");
   app->add_option("--theta", opt->theta, "Saltus stepper's theta in [0.5, 1] (default 0.5, midpoint)");
   app->add_option("--feedback", opt->feedback, "none (default: open loop) or pd (tracking on the actuated coordinates)");

@@ -38,6 +38,7 @@
 #include "scene/cleanup.hpp"
 #include "cli/simulation.hpp"
 #include "render/animation.hpp"  // kMaxFrames
+#include "verify/engine.hpp"
 #include "saltus/collocation_source.hpp"
 
 namespace saltus::cli {
@@ -139,8 +140,11 @@ void checkRunOptions(const RunOptions& opt) {
   if (opt.width < 2 || opt.height < 2 || opt.width > 8192 || opt.height > 8192 || opt.width % 2 || opt.height % 2)
     throw UsageError("--width/--height: expected even sizes of 2 … 8192 pixels (H.264), got " + std::to_string(opt.width) +
                      "x" + std::to_string(opt.height));
-  if (opt.engine != "saltus" && opt.engine != "bullet" && opt.engine != "both")
-    throw UsageError("--engine: expected saltus, bullet or both, got '" + opt.engine + "'");
+  try {
+    verify::parseEngines(opt.engine);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--engine: ") + e.what());
+  }
   parseSetOptions(opt.set);  // malformed assignments are usage errors before anything runs
 }
 
@@ -345,7 +349,8 @@ Command addRunCommand(CLI::App& saltus) {
   app->add_option("--N", opt->N, "finite elements (passed to optimize)");
   app->add_option("--P", opt->P, "collocation points per element (passed to optimize)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option name=value (repeatable; passed to optimize)");
-  app->add_option("--engine", opt->engine, "replay engines: saltus, bullet or both")->capture_default_str();
+  app->add_option("--engine", opt->engine, "replay engines: saltus, bullet, mujoco, both (saltus and bullet) or all")
+      ->capture_default_str();
   app->add_option("--fps", opt->fps, "video frames per second")->capture_default_str();
   app->add_option("--speed", opt->speed,
                   "playback speed, trajectory seconds per video second (default: the whole trajectory in --video-seconds, at most 1)");

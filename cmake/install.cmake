@@ -42,7 +42,9 @@ if(SALTUS_NATIVE AND NOT SALTUS_SANITIZE)
   target_compile_options(saltus_all INTERFACE -march=native)
 endif()
 
-install(TARGETS ${SALTUS_EXPORTED_TARGETS} saltus_all EXPORT saltusTargets
+# MuJoCo, which saltus::verify links, by its header and library paths (verify/CMakeLists.txt).
+set_target_properties(saltus_mujoco PROPERTIES EXPORT_NAME mujoco)
+install(TARGETS ${SALTUS_EXPORTED_TARGETS} saltus_all saltus_mujoco EXPORT saltusTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS saltus RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(EXPORT saltusTargets NAMESPACE saltus:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/saltus)

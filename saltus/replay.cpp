@@ -164,6 +164,9 @@ nlohmann::ordered_json reportJson(const ReplayResult& r, const std::string& dir)
       ej["solver"] = verify::bulletSolverName(r.options.bullet.solver);
       ej["mlcp_fallbacks"] = e.mlcp_fallbacks;
       ej["approximations"] = e.approximations;
+    } else if (e.engine == verify::EngineKind::Mujoco) {
+      ej["warnings"] = e.mujoco_warnings;
+      ej["approximations"] = e.approximations;
     } else {
       ej["lcp_failures"] = e.lcp_failures;
     }

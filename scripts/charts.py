@@ -79,6 +79,9 @@ def scene_title(meta):
     return scene, meta.get("method", "")
 
 
+ENGINE_COLOURS = {"saltus": "tab:blue", "bullet": "tab:orange", "mujoco": "tab:green"}
+
+
 def work_precision(args):
     import matplotlib.pyplot as plt
 
@@ -92,7 +95,7 @@ def work_precision(args):
     if not series:
         raise SystemExit("charts.py: %s: no row with a positive, finite error and CPU time to plot" % args.csv)
     fig, ax = plt.subplots(figsize=(7, 5))
-    colours = {"saltus": "tab:blue", "bullet": "tab:orange"}
+    colours = ENGINE_COLOURS
     for engine, points in series.items():
         points.sort(key=lambda p: p[1])
         ax.loglog([p[1] for p in points], [p[2] for p in points], "o-", color=colours.get(engine), label=engine)
@@ -103,7 +106,7 @@ def work_precision(args):
     ax.set_xlabel("CPU seconds per simulated second")
     ax.set_ylabel("error")
     ax.grid(True, which="both", alpha=0.3)
-    title = "%s: work-precision (%s)" % (scene, method)
+    title = "\n".join(textwrap.wrap("%s: work-precision (%s)" % (scene, method), 110))
     error = meta.get("error")
     if error:
         title += "\n" + "\n".join(textwrap.wrap("error: " + error, 90))
@@ -183,7 +186,6 @@ def stability(args):
     save(fig, args.png, args.svg)
 
 
-ENGINE_COLOURS = {"saltus": "tab:blue", "bullet": "tab:orange"}
 LINESTYLES = ["-", "--", ":", "-."]
 
 

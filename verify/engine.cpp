@@ -6,13 +6,22 @@
 
 namespace saltus::verify {
 
-const char* engineName(EngineKind kind) { return kind == EngineKind::Saltus ? "saltus" : "bullet"; }
+const char* engineName(EngineKind kind) {
+  switch (kind) {
+    case EngineKind::Saltus: return "saltus";
+    case EngineKind::Bullet: return "bullet";
+    case EngineKind::Mujoco: return "mujoco";
+  }
+  return "?";
+}
 
 std::vector<EngineKind> parseEngines(const std::string& name) {
   if (name == "saltus") return {EngineKind::Saltus};
   if (name == "bullet") return {EngineKind::Bullet};
+  if (name == "mujoco") return {EngineKind::Mujoco};
   if (name == "both") return {EngineKind::Saltus, EngineKind::Bullet};
-  throw std::invalid_argument("unknown engine '" + name + "' (expected saltus, bullet or both)");
+  if (name == "all") return {EngineKind::Saltus, EngineKind::Bullet, EngineKind::Mujoco};
+  throw std::invalid_argument("unknown engine '" + name + "' (expected saltus, bullet, mujoco, both or all)");
 }
 
 namespace {
@@ -79,11 +88,38 @@ class BulletEngine final : public Engine {
   BulletWorld world_;
 };
 
+class MujocoEngine final : public Engine {
+ public:
+  MujocoEngine(const scene::Scene& scene, const MujocoWorldOptions& options) : world_(scene, options) {}
+  void reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) override { world_.reset(q, v, t); }
+  void step() override { world_.step(); }  // throws SimulationError on a bad acceleration
+  void step(const Eigen::VectorXd& tau) override { world_.step(tau); }
+  const Eigen::VectorXd& q() const override { return world_.q(); }
+  const Eigen::VectorXd& v() const override { return world_.v(); }
+  double time() const override { return world_.time(); }
+  double energy() override { return world_.energy(); }
+  long steps() const override { return world_.stats().steps; }
+  long failures() const override { return world_.stats().warnings; }
+  double maxPenetration() const override { return world_.stats().max_penetration; }
+  EngineContact contact(int c) const override {
+    const MujocoContactReport& r = world_.contacts()[static_cast<std::size_t>(c)];
+    return {r.gap, r.vn, r.pn, std::hypot(r.pt1, r.pt2)};
+  }
+  std::vector<std::string> approximations() const override { return world_.approximations(); }
+
+ private:
+  MujocoWorld world_;
+};
+
 }  // namespace
 
 std::unique_ptr<Engine> makeEngine(const scene::Scene& scene, const EngineOptions& options) {
-  if (options.kind == EngineKind::Saltus) return std::make_unique<SaltusEngine>(scene, options.saltus);
-  return std::make_unique<BulletEngine>(scene, options.bullet);
+  switch (options.kind) {
+    case EngineKind::Saltus: return std::make_unique<SaltusEngine>(scene, options.saltus);
+    case EngineKind::Bullet: return std::make_unique<BulletEngine>(scene, options.bullet);
+    case EngineKind::Mujoco: return std::make_unique<MujocoEngine>(scene, options.mujoco);
+  }
+  throw std::invalid_argument("unknown engine kind");
 }
 
 }  // namespace saltus::verify

@@ -1,5 +1,6 @@
 // One face for the engines that step a scene: Saltus' Moreau–Stewart–Trinkle time-stepper
-// (timestepper/stepper.hpp) and Bullet's btMultiBody world (bullet_world.hpp). The benchmarks
+// (timestepper/stepper.hpp), Bullet's btMultiBody world (bullet_world.hpp) and MuJoCo
+// (mujoco_world.hpp). The benchmarks
 // (`saltus bench`: work-precision and stability) and the replays (replay.hpp) drive either
 // through it.
 #pragma once
@@ -13,19 +14,22 @@
 #include "scene/scene.hpp"
 #include "timestepper/stepper.hpp"
 #include "verify/bullet_world.hpp"
+#include "verify/mujoco_world.hpp"
 
 namespace saltus::verify {
 
-enum class EngineKind { Saltus, Bullet };
-const char* engineName(EngineKind kind);  // "saltus", "bullet"
-// "saltus", "bullet" or "both" → the list; throws std::invalid_argument otherwise.
+enum class EngineKind { Saltus, Bullet, Mujoco };
+const char* engineName(EngineKind kind);  // "saltus", "bullet", "mujoco"
+// "saltus", "bullet", "mujoco", "both" (saltus and bullet) or "all" → the list; throws
+// std::invalid_argument otherwise.
 std::vector<EngineKind> parseEngines(const std::string& name);
 
-// How an engine is set up: the stepper's options (Saltus) or the world's (Bullet).
+// How an engine is set up: the stepper's options (Saltus) or the world's (Bullet, MuJoCo).
 struct EngineOptions {
   EngineKind kind = EngineKind::Saltus;
   timestepper::StepperOptions saltus;
   BulletWorldOptions bullet;
+  MujocoWorldOptions mujoco;
 };
 
 // A contact's state after the last step, both engines alike.
@@ -48,15 +52,15 @@ class Engine {
   virtual double time() const = 0;
   virtual double energy() = 0;  // kinetic + gravitational potential [J]
   virtual long steps() const = 0;
-  virtual long failures() const = 0;  // LCP failures (Saltus) / MLCP fallbacks (Bullet)
+  virtual long failures() const = 0;  // LCP failures (Saltus) / MLCP fallbacks (Bullet) / warnings (MuJoCo)
   virtual double maxPenetration() const = 0;  // the engine's own count, limit stops included [m]
   // Scene contact c (not a limit stop) after the last step.
   virtual EngineContact contact(int c) const = 0;
-  // What the engine approximates of the scene (Bullet: bullet_world.hpp); empty for Saltus.
+  // What the engine approximates of the scene (bullet_world.hpp, mujoco_world.hpp); empty for Saltus.
   virtual std::vector<std::string> approximations() const = 0;
 };
 
-// Throws std::invalid_argument for a scene the engine cannot build (Bullet: bullet_world.hpp).
+// Throws std::invalid_argument for a scene the engine cannot build (bullet_world.hpp, mujoco_world.hpp).
 std::unique_ptr<Engine> makeEngine(const scene::Scene& scene, const EngineOptions& options);
 
 }  // namespace saltus::verify

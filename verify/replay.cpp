@@ -297,6 +297,8 @@ EngineReplay replayIn(EngineKind which, const scene::Scene& scene, const colloca
   setup.saltus.theta = options.theta;
   setup.bullet = options.bullet;
   setup.bullet.dt = options.dt;
+  setup.mujoco = options.mujoco;
+  setup.mujoco.dt = options.dt;
   const std::unique_ptr<Engine> engine = makeEngine(scene, setup);
   engine->reset(grid.q[0], grid.v[0], 0.0);
   E.approximations = engine->approximations();
@@ -373,7 +375,8 @@ EngineReplay replayIn(EngineKind which, const scene::Scene& scene, const colloca
   E.steps = k;
   E.energy_end = engine->energy();
   E.max_penetration = std::max(E.max_penetration, engine->maxPenetration());
-  (which == EngineKind::Saltus ? E.lcp_failures : E.mlcp_fallbacks) = engine->failures();
+  (which == EngineKind::Saltus ? E.lcp_failures : which == EngineKind::Bullet ? E.mlcp_fallbacks : E.mujoco_warnings) =
+      engine->failures();
   deviation.report(R.coordinates, k, E);
   E.within_tolerance = E.completed && E.max_position_deviation <= R.tolerance;
 

@@ -109,6 +109,7 @@ struct ReplayOptions {
   Eigen::VectorXd input_offset;  // empty: none
 
   BulletWorldOptions bullet;  // dt is replaced by `dt`
+  MujocoWorldOptions mujoco;  // dt is replaced by `dt`
   long max_series = 4000;     // the recorded time series keeps at most about this many samples
 };
 
@@ -156,9 +157,12 @@ struct EngineReplay {
   std::vector<EventMatch> matches;     // one per optimised event
   std::vector<ContactEvent> unmatched;  // replayed events no optimised event matched
   ReplaySeries series;
+  // Bullet and MuJoCo: what the engine approximates of the scene.
+  std::vector<std::string> approximations;
   // Bullet only.
   long mlcp_fallbacks = 0;
-  std::vector<std::string> approximations;
+  // MuJoCo only.
+  long mujoco_warnings = 0;
   // Saltus only.
   long lcp_failures = 0;
 };

@@ -98,6 +98,27 @@ TEST(ReplayCommand, BothEnginesOnTheBounceWriteTheReport) {
   fs::remove_all(out);
 }
 
+// MuJoCo as the third engine: the same bounce, its events matched, its soft contact's deviation
+// above saltus' (a spring, not Newton's impact) and its approximations in the report.
+TEST(ReplayCommand, MujocoReplaysTheBounceWithItsApproximations) {
+  const fs::path out = replayTestDir("drop_mujoco");
+  const auto r = runSaltus({"replay", dropDir().string(), "--engine", "all", "--tolerance", "0.01", "--out", out.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(readFile(out / "replay.json"));
+  const nlohmann::json& m = j["engines"]["mujoco"];
+  ASSERT_TRUE(m.is_object()) << j.dump();
+  EXPECT_TRUE(m["within_tolerance"].get<bool>());
+  EXPECT_EQ(m["events_matched"], 3);
+  EXPECT_EQ(m["warnings"], 0);
+  EXPECT_GE(m["approximations"].size(), 3u);
+  EXPECT_GT(m["max_position_deviation"].get<double>(), j["engines"]["saltus"]["max_position_deviation"].get<double>());
+  EXPECT_NE(readFile(out / "replay.csv").find("mujoco.q.z"), std::string::npos);
+  const auto refused = runSaltus({"replay", dropDir().string(), "--engine", "ode", "--out", out.string()});
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("expected saltus, bullet, mujoco, both or all"), std::string::npos) << refused.err;
+  fs::remove_all(out);
+}
+
 // An input doubled, then a constant 0.05 N added: exit 1 with the reason on standard error and
 // within_tolerance false in the report; the optimised input itself stays within.
 TEST(ReplayCommand, AWrongInputIsCaughtByTheTolerance) {
