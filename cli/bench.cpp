@@ -146,7 +146,7 @@ int workPrecision(const WorkPrecisionOptions& opt) {
     for (double dt : dts) {
       const EngineOptions setup = engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate);
       const long steps = stepCount(duration, dt);
-      const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
+      const RecordedRun run = recordRun(scene, setup, steps, model.tracked);
       const double error = runError(model, run);
       Timing timing;
       if (!run.failed) timing = timeRuns(scene, setup, steps, opt.min_time);
@@ -233,7 +233,7 @@ int perStep(const PerStepOptions& opt) {
     long failures[2] = {0, 0};
     for (int e = 0; e < 2; ++e) {
       const EngineOptions setup = engineSetup(e ? EngineKind::Bullet : EngineKind::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
-      const RecordedRun run = recordRun(scene, setup, steps, model.kind == ErrorModel::BallApex);
+      const RecordedRun run = recordRun(scene, setup, steps, model.tracked);
       error[e] = runError(model, run);
       failures[e] = run.failures;
       if (run.failed) throw std::runtime_error(scene.name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);

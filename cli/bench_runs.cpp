@@ -108,20 +108,21 @@ EngineOptions engineSetup(EngineKind kind, double dt, double theta, LcpMethod so
   return e;
 }
 
-RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, bool keep_bounce) {
+RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, int tracked) {
+  const bool keep_bounce = tracked >= 0;
   RecordedRun r;
   const std::unique_ptr<Engine> sim = verify::makeEngine(scene, setup);
   if (keep_bounce) {
     r.z.reserve(static_cast<std::size_t>(steps) + 1);
     r.pn.reserve(static_cast<std::size_t>(steps) + 1);
-    r.z.push_back(sim->q()[0]);
+    r.z.push_back(sim->q()[tracked]);
     r.pn.push_back(0);
   }
   try {
     for (long i = 0; i < steps; ++i) {
       sim->step();
       if (keep_bounce) {
-        r.z.push_back(sim->q()[0]);
+        r.z.push_back(sim->q()[tracked]);
         r.pn.push_back(scene.contacts.empty() ? 0.0 : sim->contact(0).pn);
       }
     }
@@ -250,9 +251,23 @@ ErrorModel makeErrorModel(const Scene& scene, const std::vector<double>& dts, do
       scene.contacts.size() == 1 && scene.limits.empty()) {
     const double h0 = parameter(scene, "height"), e = parameter(scene, "restitution");
     m.kind = ErrorModel::BallApex;
+    m.tracked = 0;
     m.apex_exact = analytic::ballApex(h0, e, 1);
     m.description = "|first apex - e^2 h0| with e^2 h0 = " + formatNumber(m.apex_exact, 8) +
                     " m (apex: highest z between the first and the second impact; elementary: h_k = e^(2k) h0)";
+    return m;
+  }
+  if (scene.name == "rocking_block" && hasParameters(scene, {"half_width", "half_height", "tilt"}) &&
+      coordinateIndex(scene, "base_theta") >= 0) {
+    const double b = parameter(scene, "half_width"), h = parameter(scene, "half_height");
+    const double g = scene.model.gravity.norm();
+    const double omega = analytic::rockingImpactRatio(b, h) * analytic::rockingReturnSpeed(b, h, parameter(scene, "tilt"), g);
+    m.kind = ErrorModel::RockingTilt;
+    m.tracked = coordinateIndex(scene, "base_theta");
+    m.apex_exact = analytic::rockingTilt(b, h, omega, g);
+    m.description = "|largest tilt between the first and second impact - " + formatNumber(m.apex_exact, 8) +
+                    " rad| (Housner: omega after an impact r = 1 - 3/2 sin^2(atan(b/h)) of omega before; the tilt "
+                    "from the energy about the pivot)";
     return m;
   }
   if (scene.name == "block_slide" && hasParameters(scene, {"incline", "speed", "friction", "g"}) &&
@@ -298,6 +313,8 @@ double runError(const ErrorModel& m, const RecordedRun& r) {
   switch (m.kind) {
     case ErrorModel::BallApex:
       return std::abs(analytic::firstApex(r.z, r.pn) - m.apex_exact);
+    case ErrorModel::RockingTilt:
+      return std::abs(analytic::rockingFirstTilt(r.z) - m.apex_exact);
     case ErrorModel::Slide:
       return std::abs(r.x_end[m.s_index] - analytic::slidePosition(m.v0, m.mu, m.alpha, m.g, r.t_end));
     case ErrorModel::Exact:

@@ -47,6 +47,8 @@ double parameter(const Scene& scene, const std::string& name);
 
 // How a run's error is measured:
 //  - BallApex (ball_drop): |first apex − e² h0| (timestepper/analytic.hpp);
+//  - RockingTilt (rocking_block): |largest tilt between the first two impacts − Housner's|
+//    (timestepper/analytic.hpp);
 //  - Slide (block_slide): |s(T) − s_exact(T)|;
 //  - Exact (painleve_rod, pendulum_conveyor): |[q; v](T) − exact(T)|, the exact motion of a contact
 //    that sticks after an impact without collision (timestepper/sticking_motion.hpp), used when
@@ -54,9 +56,10 @@ double parameter(const Scene& scene, const std::string& name);
 //  - Reference (any other scene, or those two outside the sticking assumption): |[q; v](T) −
 //    x_ref(T)| against a saltus run at dt_min/16 with θ = ½.
 struct ErrorModel {
-  enum Kind { BallApex, Slide, Exact, Reference } kind = Reference;
+  enum Kind { BallApex, RockingTilt, Slide, Exact, Reference } kind = Reference;
   std::string description;
-  // BallApex
+  int tracked = -1;  // the coordinate a run records after every step (BallApex, RockingTilt), −1: none
+  // BallApex: the apex height; RockingTilt: the tilt
   double apex_exact = 0;
   // Slide
   int s_index = -1;
@@ -75,9 +78,10 @@ struct RecordedRun {
   long steps = 0, failures = 0;
   double t_end = 0;
   Eigen::VectorXd x_end;         // [q; v] at the end
-  std::vector<double> z, pn;     // BallApex: height and normal impulse after every step
+  std::vector<double> z, pn;     // the tracked coordinate and contact 0's normal impulse after every step
 };
-RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, bool keep_bounce);
+// Runs `steps` steps; records coordinate `tracked` (and contact 0's impulse) after each, unless −1.
+RecordedRun recordRun(const Scene& scene, const EngineOptions& setup, long steps, int tracked);
 
 // The error model of a scene for runs of `duration` at the time steps `dts` (their end times
 // are multiples of dt at or after `duration`); a Reference run or the Exact motion is evaluated

@@ -179,10 +179,14 @@ def stability(args):
             ax.set_title(", ".join(title), fontsize=9)
         ax.set_aspect("auto")
     present = [o for o in OUTCOME_COLOURS if any(r.get("outcome") == o for r in rows)]
-    fig.suptitle("%s: stability (%s)" % (scene, method), fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 0.9))
+    # the title wrapped to the figure's width, the legend below it, the panels below both
+    lines = textwrap.wrap("%s: stability (%s)" % (scene, method), 60 + 60 * len(panels))
+    inches = fig.get_size_inches()[1]
+    title_height = (0.2 * len(lines) + 0.1) / inches
+    fig.suptitle("\n".join(lines), fontsize=10, y=0.99)
+    fig.tight_layout(rect=(0, 0, 1, 1 - title_height - 0.25 / inches))
     fig.legend(handles=[Patch(color=OUTCOME_COLOURS[o], label=o) for o in present], loc="upper center",
-               fontsize=8, ncol=len(present), bbox_to_anchor=(0.5, 0.955), frameon=False)
+               fontsize=8, ncol=len(present), bbox_to_anchor=(0.5, 0.99 - title_height), frameon=False)
     save(fig, args.png, args.svg)
 
 

@@ -55,4 +55,29 @@ double firstApex(const std::vector<double>& z, const std::vector<double>& pn) {
   return apex;
 }
 
+double rockingImpactRatio(double b, double h) {
+  const double s = std::sin(std::atan2(b, h));
+  return 1 - 1.5 * s * s;
+}
+
+double rockingReturnSpeed(double b, double h, double theta0, double g) {
+  const double alpha = std::atan2(b, h), R = std::hypot(b, h);
+  return std::sqrt(3 * g / (2 * R) * (std::cos(alpha - theta0) - std::cos(alpha)));
+}
+
+double rockingTilt(double b, double h, double omega, double g) {
+  const double alpha = std::atan2(b, h), R = std::hypot(b, h);
+  return alpha - std::acos(std::cos(alpha) + 2 * R / (3 * g) * omega * omega);
+}
+
+double rockingFirstTilt(const std::vector<double>& theta) {
+  const std::size_t n = theta.size();
+  std::size_t i = 1;
+  while (i < n && !(theta[i - 1] * theta[i] <= 0 && theta[i - 1] != theta[i])) ++i;  // the first flat
+  if (i >= n) return std::numeric_limits<double>::quiet_NaN();
+  double tilt = std::abs(theta[i]);
+  for (++i; i < n && !(theta[i - 1] * theta[i] <= 0 && theta[i - 1] != theta[i]); ++i) tilt = std::max(tilt, std::abs(theta[i]));
+  return tilt;
+}
+
 }  // namespace saltus::timestepper::analytic

@@ -27,6 +27,23 @@ double slideStopDistance(double v0, double mu, double alpha, double g);
 // s(t): v0 t + ½ a t² until the stop, then the stopping distance.
 double slidePosition(double v0, double mu, double alpha, double g, double t);
 
+// Housner's rocking block (2b wide, 2h tall, uniform, on a rigid floor with no sliding; G. W.
+// Housner, Bull. Seismological Society of America 53(2), 1963): α = atan(b/h), R = √(b² + h²),
+// inertia about a corner I_O = (4/3) m R². An inelastic impact on the landing corner, the pivot
+// lifting off, keeps the angular momentum about the landing corner: ω⁺ = r ω⁻ with
+// r = 1 − (3/2) sin² α (Housner eq. 3).
+double rockingImpactRatio(double b, double h);
+// |ω| when the block, released from rest at tilt θ0 ∈ (0, α), comes back flat (energy about the
+// pivot): √(2 m g R (cos(α − θ0) − cos α) / I_O) = √((3 g / (2 R)) (cos(α − θ0) − cos α)).
+double rockingReturnSpeed(double b, double h, double theta0, double g);
+// The largest tilt after an impact that leaves |ω| = omega when flat: the energy
+// ½ I_O ω² = m g R (cos(α − θ) − cos α) gives θ = α − acos(cos α + (2 R / (3 g)) ω²).
+double rockingTilt(double b, double h, double omega, double g);
+// The largest |θ| between the first and the second impact of a rocking trajectory, from samples
+// of the tilt θ: an impact is where θ changes sign (the block is flat). NaN without two sign
+// changes within the samples (the second may be missing: then up to the end).
+double rockingFirstTilt(const std::vector<double>& theta);
+
 // The first apex of a bouncing trajectory: the largest height between the first and the second
 // impact, from samples (height z, normal impulse pn over the step that ended at the sample).
 // An impact is a run of consecutive samples with pn > 0; the apex is searched from the first

@@ -140,5 +140,54 @@ TEST(Analytic, StepperOnTheBuiltInBallDropScene) {
   EXPECT_NEAR(firstApex(z, pn), ballApex(scene.parameters.at("height"), 0.5, 1), 2e-3);
 }
 
+// Housner's rocking block: a square block loses 3/4 of its angular velocity (α = π/4,
+// r = 1 − 3/4); the tilt after an impact inverts the return speed; the measurement finds the
+// largest |θ| between the first two flat instants.
+TEST(Analytic, RockingBlockClosedForms) {
+  EXPECT_NEAR(rockingImpactRatio(0.3, 0.3), 0.25, 1e-15);
+  EXPECT_NEAR(rockingImpactRatio(0.1, 0.4), 1 - 1.5 / 17, 1e-15);  // sin² α = b² / R²
+  for (double theta0 : {0.01, 0.1, 0.2})
+    EXPECT_NEAR(rockingTilt(0.1, 0.4, rockingReturnSpeed(0.1, 0.4, theta0, 9.81), 9.81), theta0, 1e-12) << theta0;
+  EXPECT_DOUBLE_EQ(rockingFirstTilt({0.1, 0.05, -0.02, -0.07, -0.04, 0.01, 0.3}), 0.07);
+  EXPECT_DOUBLE_EQ(rockingFirstTilt({0.1, -0.02, -0.05}), 0.05);  // no second flat: to the end
+  EXPECT_TRUE(std::isnan(rockingFirstTilt({0.1, 0.05, 0.01})));
+}
+
+// The stepper on rocking_block (θ = ½, dt 1e-4): the block comes back flat at the pendulum's
+// speed, loses Housner's fraction at each of six impacts, rocks to the tilt the energy gives, and
+// never slides (it is flat at the same place every time).
+TEST(Analytic, StepperOnTheRockingBlock) {
+  const Scene scene = scene::loadScene("rocking_block", {});
+  const double b = scene.parameters.at("half_width"), h = scene.parameters.at("half_height"),
+               theta0 = scene.parameters.at("tilt"), g = 9.81;
+  StepperOptions o;
+  o.dt = 1e-4;
+  o.theta = 0.5;
+  TimeStepper sim(scene, o);
+  const int x = scene.model.coordinateIndex("base_x"), th = scene.model.coordinateIndex("base_theta");
+  const double x_flat = b * std::cos(theta0) - h * std::sin(theta0) - b;  // the pivot stays at x = b cos θ0 − h sin θ0
+  std::vector<double> theta{sim.q()[th]};
+  double omega_expected = rockingReturnSpeed(b, h, theta0, g);
+  int impacts = 0;
+  while (sim.time() < scene.duration && impacts < 6) {
+    const double theta_before = sim.q()[th], omega_before = sim.v()[th];
+    sim.step();
+    theta.push_back(sim.q()[th]);
+    EXPECT_GT(sim.contacts()[0].gap, -1e-9);
+    EXPECT_GT(sim.contacts()[1].gap, -1e-9);
+    if (theta_before * sim.q()[th] < 0) {  // flat within this step: the impact
+      ++impacts;
+      SCOPED_TRACE("impact " + std::to_string(impacts));
+      EXPECT_NEAR(std::abs(omega_before), omega_expected, 2e-3 * omega_expected);
+      EXPECT_NEAR(sim.v()[th] / omega_before, rockingImpactRatio(b, h), 2e-3);
+      EXPECT_NEAR(sim.q()[x], x_flat, 1e-4);
+      omega_expected *= rockingImpactRatio(b, h);
+    }
+  }
+  EXPECT_EQ(impacts, 6);
+  const double first_tilt = rockingTilt(b, h, rockingImpactRatio(b, h) * rockingReturnSpeed(b, h, theta0, g), g);
+  EXPECT_NEAR(rockingFirstTilt(theta), first_tilt, 1e-3 * first_tilt);
+}
+
 }  // namespace
 }  // namespace saltus::timestepper::analytic
