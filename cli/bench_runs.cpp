@@ -270,6 +270,21 @@ ErrorModel makeErrorModel(const Scene& scene, const std::vector<double>& dts, do
                     "from the energy about the pivot)";
     return m;
   }
+  if (scene.name == "newtons_cradle" && hasParameters(scene, {"restitution", "spacing", "speed"}) &&
+      scene.model.nv() == 3) {
+    const double e = parameter(scene, "restitution"), v = parameter(scene, "speed");
+    const bool touching = parameter(scene, "spacing") == 0;
+    if (touching || e == 1) {
+      m.kind = ErrorModel::Velocities;
+      const std::vector<double> exact = touching ? analytic::cradleVelocities(e, v) : std::vector<double>{0, 0, v};
+      m.v_exact = Eigen::Map<const Eigen::VectorXd>(exact.data(), 3);
+      m.description = std::string("|v(T) - v_exact| after the impacts, v_exact = (") + formatNumber(exact[0], 8) + ", " +
+                      formatNumber(exact[1], 8) + ", " + formatNumber(exact[2], 8) + ") m/s (" +
+                      (touching ? "the balls touching: Newton's law on both contacts at once, the impact LCP"
+                                : "the balls apart, e = 1: pairwise impacts pass the velocity along") + ")";
+      return m;
+    }
+  }
   if (scene.name == "block_slide" && hasParameters(scene, {"incline", "speed", "friction", "g"}) &&
       coordinateIndex(scene, "s") >= 0) {
     m.kind = ErrorModel::Slide;
@@ -313,6 +328,8 @@ double runError(const ErrorModel& m, const RecordedRun& r) {
   switch (m.kind) {
     case ErrorModel::BallApex:
       return std::abs(analytic::firstApex(r.z, r.pn) - m.apex_exact);
+    case ErrorModel::Velocities:
+      return (r.x_end.tail(m.v_exact.size()) - m.v_exact).norm();
     case ErrorModel::RockingTilt:
       return std::abs(analytic::rockingFirstTilt(r.z) - m.apex_exact);
     case ErrorModel::Slide:

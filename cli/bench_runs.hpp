@@ -50,13 +50,15 @@ double parameter(const Scene& scene, const std::string& name);
 //  - RockingTilt (rocking_block): |largest tilt between the first two impacts − Housner's|
 //    (timestepper/analytic.hpp);
 //  - Slide (block_slide): |s(T) − s_exact(T)|;
+//  - Velocities (newtons_cradle, resting balls touching, or apart with e = 1): |v(T) − v_exact|
+//    after the impacts (timestepper/analytic.hpp);
 //  - Exact (painleve_rod, pendulum_conveyor): |[q; v](T) − exact(T)|, the exact motion of a contact
 //    that sticks after an impact without collision (timestepper/sticking_motion.hpp), used when
 //    sticking holds until T;
 //  - Reference (any other scene, or those two outside the sticking assumption): |[q; v](T) −
 //    x_ref(T)| against a saltus run at dt_min/16 with θ = ½.
 struct ErrorModel {
-  enum Kind { BallApex, RockingTilt, Slide, Exact, Reference } kind = Reference;
+  enum Kind { BallApex, RockingTilt, Slide, Velocities, Exact, Reference } kind = Reference;
   std::string description;
   int tracked = -1;  // the coordinate a run records after every step (BallApex, RockingTilt), −1: none
   // BallApex: the apex height; RockingTilt: the tilt
@@ -64,6 +66,8 @@ struct ErrorModel {
   // Slide
   int s_index = -1;
   double v0 = 0, mu = 0, alpha = 0, g = 0;
+  // Velocities: v after the impacts
+  Eigen::VectorXd v_exact;
   // Exact: [q; v] at time t
   std::function<Eigen::VectorXd(double)> exact;
   // Reference: states [q; v] at times t_ref[i]

@@ -55,6 +55,10 @@ double firstApex(const std::vector<double>& z, const std::vector<double>& pn) {
   return apex;
 }
 
+std::vector<double> cradleVelocities(double e, double v) {
+  return {(1 - 2 * e) * v / 3, (1 + e) * v / 3, (1 + e) * v / 3};
+}
+
 double rockingImpactRatio(double b, double h) {
   const double s = std::sin(std::atan2(b, h));
   return 1 - 1.5 * s * s;

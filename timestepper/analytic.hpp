@@ -44,6 +44,12 @@ double rockingTilt(double b, double h, double omega, double g);
 // changes within the samples (the second may be missing: then up to the end).
 double rockingFirstTilt(const std::vector<double>& theta);
 
+// Three equal balls in a row, the first at speed v striking the other two at rest and touching,
+// restitution e on both contacts, Newton's law on both at once (the impact LCP; newtons_cradle's
+// header): v1 = (1 − 2e) v / 3, v2 = v3 = (1 + e) v / 3. (Pairwise impacts, the resting balls
+// apart, give (0, 0, v) for e = 1 instead.)
+std::vector<double> cradleVelocities(double e, double v);
+
 // The first apex of a bouncing trajectory: the largest height between the first and the second
 // impact, from samples (height z, normal impulse pn over the step that ended at the sample).
 // An impact is a run of consecutive samples with pn > 0; the apex is searched from the first

@@ -140,6 +140,33 @@ TEST(Analytic, StepperOnTheBuiltInBallDropScene) {
   EXPECT_NEAR(firstApex(z, pn), ballApex(scene.parameters.at("height"), 0.5, 1), 2e-3);
 }
 
+// newtons_cradle: with the resting balls touching, the stepper's impact (all contacts at once)
+// gives the LCP's velocities for every e, keeping momentum (and energy for e = 1); with them
+// 1 mm apart the impacts are pairwise and e = 1 passes the velocity down the row.
+TEST(Analytic, StepperOnNewtonsCradle) {
+  for (double e : {0.0, 0.5, 1.0}) {
+    SCOPED_TRACE("e = " + std::to_string(e));
+    const Scene scene = scene::loadScene("newtons_cradle", {{"restitution", e}});
+    StepperOptions o;
+    o.dt = 1e-3;
+    TimeStepper sim(scene, o);
+    const double E0 = sim.energy();
+    while (sim.time() < scene.duration - 1e-12) sim.step();
+    const std::vector<double> v = cradleVelocities(e, 1.0);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(sim.v()[i], v[i], 1e-12) << i;
+    EXPECT_NEAR(sim.v().sum(), 1.0, 1e-12);  // momentum / (m v)
+    if (e == 1.0) EXPECT_NEAR(sim.energy(), E0, 1e-14);
+  }
+  const Scene apart = scene::loadScene("newtons_cradle", {{"spacing", 1e-3}});
+  StepperOptions o;
+  o.dt = 1e-3;
+  TimeStepper sim(apart, o);
+  while (sim.time() < apart.duration - 1e-12) sim.step();
+  EXPECT_NEAR(sim.v()[0], 0, 1e-12);
+  EXPECT_NEAR(sim.v()[1], 0, 1e-12);
+  EXPECT_NEAR(sim.v()[2], 1, 1e-12);
+}
+
 // Housner's rocking block: a square block loses 3/4 of its angular velocity (α = π/4,
 // r = 1 − 3/4); the tilt after an impact inverts the return speed; the measurement finds the
 // largest |θ| between the first two flat instants.
