@@ -83,9 +83,6 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
   for (const scene::Surface& s : scene.surfaces)
     if (!s.velocity_schedule.empty())
       throw std::invalid_argument(where + "surface '" + s.name + "' moves (a belt); MuJoCo has no moving-plane contact");
-  for (const scene::Contact& c : scene.contacts)
-    if (c.surface < 0)
-      throw std::invalid_argument(where + "contact '" + c.name + "' is on a plane fixed in a body, not built yet");
 
   // The contact spring, per unit of effective mass (MuJoCo's solref given as (−k, −b)): natural
   // frequency ω = 1 / (timeconst_steps · dt), damping b = 2 ζ ω for the restitution's ζ.
@@ -148,10 +145,23 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
     }
     xml << "<inertial pos=\"" << vec(c) << "\" mass=\"" << mass << "\" fullinertia=\""
         << numbers({Ic(0, 0), Ic(1, 1), Ic(2, 2), Ic(0, 1), Ic(0, 2), Ic(1, 2)}) << "\"/>";
-    for (std::size_t c_i = 0; c_i < scene.contacts.size(); ++c_i)
-      if (scene.contacts[c_i].body == i)
-        xml << "<geom name=\"contact" << c_i << "\" type=\"sphere\" size=\"" << r << "\" pos=\""
-            << vec(scene.contacts[c_i].p_B) << "\" contype=\"0\" conaffinity=\"0\" mass=\"0\"/>";
+    for (std::size_t c_i = 0; c_i < scene.contacts.size(); ++c_i) {
+      const scene::Contact& contact = scene.contacts[c_i];
+      if (contact.body == i)
+        xml << "<geom name=\"contact" << c_i << "\" type=\"sphere\" size=\"" << r << "\" pos=\"" << vec(contact.p_B)
+            << "\" contype=\"0\" conaffinity=\"0\" mass=\"0\"/>";
+      // A plane fixed in this body: a box whose top face is the plane moved back by the radius,
+      // as large as the plane's extent (a point beyond it meets the box's rounded edge).
+      if (contact.surface < 0 && contact.plane.body == i) {
+        const scene::BodyPlane& p = contact.plane;
+        const double depth = std::max({p.extent.x(), p.extent.y(), 10 * r});  // half-thickness
+        Eigen::Matrix3d R;
+        R << p.tangents.col(0), p.tangents.col(1), p.normal;
+        xml << "<geom name=\"plane" << c_i << "\" type=\"box\" size=\"" << numbers({p.extent.x(), p.extent.y(), depth})
+            << "\" pos=\"" << vec(p.point - (r + depth) * p.normal) << "\" quat=\"" << quat(R)
+            << "\" contype=\"0\" conaffinity=\"0\" mass=\"0\"/>";
+      }
+    }
     for (int child : children[i]) body(child);
     xml << "</body>";
   };
@@ -171,7 +181,8 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
   for (std::size_t c = 0; c < scene.contacts.size(); ++c) {
     const scene::Contact& contact = scene.contacts[c];
     const bool friction = contact.friction > 0 && contact.directions > 0;
-    xml << "<pair geom1=\"contact" << c << "\" geom2=\"surface" << contact.surface << "\" condim=\"" << (friction ? 3 : 1)
+    const std::string other = contact.surface >= 0 ? "surface" + std::to_string(contact.surface) : "plane" + std::to_string(c);
+    xml << "<pair geom1=\"contact" << c << "\" geom2=\"" << other << "\" condim=\"" << (friction ? 3 : 1)
         << "\" friction=\"" << numbers({contact.friction, contact.friction, 0, 0, 0}) << "\" solref=\"" << solref(contact.restitution)
         << "\" solimp=\"" << solimp << "\"/>";
   }
@@ -275,7 +286,8 @@ void MujocoWorld::measure() {
     r.vt2 = v_frame[2];
     r.active = false;
     r.pn = r.pt1 = r.pt2 = 0;
-    stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
+    if (contact::withinExtent(pair, data_))  // below a body's plane beyond its edge is no penetration
+      stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
   }
   for (std::size_t l = scene_.contacts.size(); l < pairs_.size(); ++l)
     stats_.max_penetration = std::max(stats_.max_penetration, -contact::gap(pairs_[l], data_, q_.data()));

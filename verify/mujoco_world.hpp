@@ -12,8 +12,10 @@
 //    after its saltus coordinate, so that qpos, qvel and the applied forces map by name;
 //  - each scene contact point on a world surface: a sphere of radius `contact_radius` at the point
 //    on its body, and each surface a plane moved back by the radius (n·x = n·p − r), so that the
-//    sphere–plane distance is the saltus gap at every orientation (as in bullet_world.hpp). Only
-//    the explicit <pair> of each contact collides (every geom has contype = conaffinity = 0);
+//    sphere–plane distance is the saltus gap at every orientation (as in bullet_world.hpp). A
+//    plane fixed in a body is the top face of a box on that body, moved back by the radius, as
+//    large as the plane's extent. Only the explicit <pair> of each contact collides (every geom
+//    has contype = conaffinity = 0);
 //  - friction: condim 3 with the contact's μ in both tangential directions and a pyramidal cone
 //    (MuJoCo's default; the closest to saltus' polyhedral cone), condim 1 for a frictionless one;
 //  - restitution: MuJoCo has none. A contact is a damped spring in MuJoCo's reference
@@ -29,8 +31,8 @@
 //  - gravity: the Model's; the input: generalised forces τ as qfrc_applied, held over the step;
 //  - integrator Euler (semi-implicit), Newton solver, `iterations` and `tolerance` as given.
 // Not built (std::invalid_argument at construction): a free base (saltus' is Z–Y′–X″ Euler
-// angles, MuJoCo's free joint a quaternion: to come with a quaternion base), a plane fixed in a
-// body, and a surface with a velocity schedule (MuJoCo has no moving-plane contact).
+// angles, MuJoCo's free joint a quaternion: to come with a quaternion base) and a surface with a
+// velocity schedule (MuJoCo has no moving-plane contact).
 //
 // Gaps and velocities are saltus' contact layer's at MuJoCo's (q, v); impulses are MuJoCo's
 // contact forces (mj_contactForce) times dt. MuJoCo's warnings are counted; a position, velocity
