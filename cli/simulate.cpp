@@ -102,8 +102,9 @@ int simulate(const SimulateCliOptions& opt) {
     << formatNumber(run.end_time) << " s, theta " << formatNumber(opt.theta) << ", " << solverName(options.solver)
     << ") in " << formatNumber(run.wall_seconds * 1e3, 4) << " ms wall ("
     << formatNumber(run.wall_seconds * 1e6 / stats.steps, 4) << " µs per step); LCP failures " << stats.lcp_failures
-    << "; largest penetration " << formatNumber(stats.max_penetration, 3)
-    << " m; energy change E_end - E_0 = " << formatNumber(run.energy_end - run.energy_start, 4)
+    << "; largest penetration " << formatNumber(stats.max_penetration, 3) << " m"
+    << (scene.limits.empty() ? std::string() : ", of a joint stop " + formatNumber(stats.max_stop_penetration, 3) + " rad or m")
+    << "; energy change E_end - E_0 = " << formatNumber(run.energy_end - run.energy_start, 4)
     << " J (E_0 = " << formatNumber(run.energy_start, 4) << " J" << (run.driven ? "; input/belt work included" : "")
     << "); wrote " << opt.out << (options.every > 1 ? " (a row every " + std::to_string(options.every) + " steps)" : "")
     << "\n";

@@ -58,6 +58,7 @@ py::dict statsDict(const timestepper::StepperStats& s) {
   d["located_impacts"] = s.located_impacts;
   d["max_lcp_size"] = s.max_lcp_size;
   d["max_penetration"] = s.max_penetration;
+  d["max_stop_penetration"] = s.max_stop_penetration;
   return d;
 }
 

@@ -104,7 +104,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   solver_ = LcpSolver(nz_max);
   reports_.assign(pairs_.size(), ContactReport{});
   measureContacts();
-  stats_.max_penetration = 0;
+  stats_.max_penetration = stats_.max_stop_penetration = 0;
   const double g = scene_.model.gravity.norm();
   restitution_threshold_ = options_.restitution_threshold >= 0 ? options_.restitution_threshold : 2 * g * options_.dt;
 }
@@ -334,7 +334,8 @@ bool TimeStepper::measureContacts() {
     r.over_plane = contact::withinExtent(pair, data_);
     if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;
-    if (!pair.isStop()) stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);  // metres only
+    double& largest = pair.isStop() ? stats_.max_stop_penetration : stats_.max_penetration;  // rad or m / m
+    largest = std::max(largest, -r.gap);
   }
   return penetrating;
 }

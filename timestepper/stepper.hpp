@@ -124,6 +124,7 @@ struct StepperStats {
   long located_impacts = 0;    // steps split at an estimated time of impact (locate_impacts)
   int max_lcp_size = 0;
   double max_penetration = 0;  // largest −gap of a point contact after a step (before projection) [m]
+  double max_stop_penetration = 0;  // largest −gap of a joint-limit stop after a step (before projection) [rad or m]
   double max_lcp_residual = 0;
 };
 

@@ -63,14 +63,16 @@ Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Ei
 TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners",
-                                      "newtons_cradle", "painleve_rod", "pendulum_conveyor", "rocking_block"}));
+                                      "chain_on_stops", "newtons_cradle", "painleve_rod", "pendulum_conveyor",
+                                      "rocking_block"}));
 }
 
 TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
   const std::map<std::string, std::pair<int, int>> expected = {
       {"ball_drop", {1, 1}},         {"block_slide", {2, 1}},   {"pendulum_conveyor", {2, 1}},
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
-      {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}}};
+      {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
+      {"chain_on_stops", {10, 0}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -84,7 +86,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
     EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled
-    EXPECT_TRUE(s.limits.empty());
+    EXPECT_EQ(s.limits.size(), name == "chain_on_stops" ? 18u : 0u);  // nine limited joints, two stops each
     EXPECT_GT(s.duration, 0);
     EXPECT_FALSE(s.model.visuals.empty());
     for (const Surface& surf : s.surfaces) EXPECT_NEAR(surf.normal.norm(), 1.0, 1e-15);
@@ -411,7 +413,7 @@ TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
   const std::string what = errorOf([] { loadScene("ball_dorp"); });
   EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
   EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
-  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
 }
 
 TEST(Scenario, MissingFile) {
