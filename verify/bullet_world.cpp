@@ -375,23 +375,9 @@ void BulletWorld::step(const Eigen::VectorXd& tau) {
 
 // Gaps and velocities from saltus' kinematics of (q, v); impulses from Bullet's manifold points.
 void BulletWorld::measure() {
-  const dynamics::Model<double>& model = scene_.model;
-  dynamics::forwardKinematics(model, data_, q_, v_);
-  for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
-    const contact::ContactPair& pair = pairs_[c];
-    const Eigen::Vector3d surface_velocity =
-        pair.body_b < 0 ? scene_.surfaces[pair.surface].velocity(t_) : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d v_frame = contact::frameVelocity(pair, data_, surface_velocity);
-    BulletContactReport& r = reports_[c];
-    r.gap = contact::gap(pair, data_, q_.data());
-    r.vn = v_frame[0];
-    r.vt1 = v_frame[1];
-    r.vt2 = v_frame[2];
-    r.active = false;
-    r.pn = r.pt1 = r.pt2 = 0;
-    if (contact::withinExtent(pair, data_))  // below a body's plane beyond its edge is no penetration
-      stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
-  }
+  dynamics::forwardKinematics(scene_.model, data_, q_, v_);
+  stats_.max_penetration =
+      std::max(stats_.max_penetration, measureContactKinematics(scene_, pairs_, data_, q_.data(), t_, reports_));
   // The stops Bullet enforces (limit_coordinate_): their penetration.
   for (std::size_t l = scene_.contacts.size(); l < pairs_.size(); ++l)
     if (std::find(limit_coordinate_.begin(), limit_coordinate_.end(), pairs_[l].coordinate) != limit_coordinate_.end())

@@ -70,6 +70,7 @@
 #include "dynamics/data.hpp"
 #include "scene/scene.hpp"
 #include "verify/bullet_multibody.hpp"
+#include "verify/measured_contact.hpp"
 
 class btBroadphaseInterface;
 class btCollisionDispatcher;
@@ -112,13 +113,8 @@ struct BulletWorldOptions {
   static BulletWorldOptions bulletDefaults(double dt, BulletSolver solver);
 };
 
-struct BulletContactReport {
-  bool active = false;  // Bullet had a manifold point for this contact in the last step
-  // gap, normal and tangential velocity (relative to the surface, basis t1, t2 of
-  // Surface::tangents) at the end of the step, from saltus' kinematics of (q, v);
-  // impulses over the step from Bullet's manifold points (on the body; friction projected on t1, t2).
-  double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
-};
+// A scene contact after a step: kinematics from saltus, impulses from Bullet's manifold points.
+using BulletContactReport = MeasuredContact;
 
 struct BulletWorldStats {
   long steps = 0;

@@ -276,19 +276,8 @@ void MujocoWorld::readState() {
 // Gaps and velocities from saltus' kinematics of (q, v); impulses from MuJoCo's contacts.
 void MujocoWorld::measure() {
   dynamics::forwardKinematics(scene_.model, data_, q_, v_);
-  for (std::size_t c = 0; c < scene_.contacts.size(); ++c) {
-    const contact::ContactPair& pair = pairs_[c];
-    const Eigen::Vector3d v_frame = contact::frameVelocity(pair, data_, Eigen::Vector3d::Zero().eval());
-    MujocoContactReport& r = reports_[c];
-    r.gap = contact::gap(pair, data_, q_.data());
-    r.vn = v_frame[0];
-    r.vt1 = v_frame[1];
-    r.vt2 = v_frame[2];
-    r.active = false;
-    r.pn = r.pt1 = r.pt2 = 0;
-    if (contact::withinExtent(pair, data_))  // below a body's plane beyond its edge is no penetration
-      stats_.max_penetration = std::max(stats_.max_penetration, -r.gap);
-  }
+  stats_.max_penetration =
+      std::max(stats_.max_penetration, measureContactKinematics(scene_, pairs_, data_, q_.data(), t_, reports_));
   for (std::size_t l = scene_.contacts.size(); l < pairs_.size(); ++l)
     stats_.max_penetration = std::max(stats_.max_penetration, -contact::gap(pairs_[l], data_, q_.data()));
 

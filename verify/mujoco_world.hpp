@@ -49,6 +49,7 @@
 #include "contact/pair.hpp"
 #include "dynamics/data.hpp"
 #include "scene/scene.hpp"
+#include "verify/measured_contact.hpp"
 
 struct mjModel_;
 struct mjData_;
@@ -64,13 +65,8 @@ struct MujocoWorldOptions {
   double tolerance = 1e-10;      // solver tolerance (MuJoCo's default 1e-8)
 };
 
-struct MujocoContactReport {
-  bool active = false;  // MuJoCo had this contact's pair in contact after the step
-  // gap, normal and tangential velocity (relative to the surface, basis t1, t2 of
-  // Surface::tangents) at the end of the step, from saltus' kinematics; impulses over the step on
-  // the body, from MuJoCo's contact force.
-  double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
-};
+// A scene contact after a step: kinematics from saltus, impulses from MuJoCo's contact force.
+using MujocoContactReport = MeasuredContact;
 
 struct MujocoWorldStats {
   long steps = 0;

@@ -9,19 +9,13 @@
 
 #include "dynamics/builder.hpp"
 #include "dynamics/urdf.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
 
-std::string textErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ModelError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no ModelError thrown";
-  return "";
-}
+// The ModelError message of f ("" when it throws none: the expectations then fail).
+std::string textErrorOf(const std::function<void()>& f) { return saltus::testing::messageOf<ModelError>(f); }
 
 #ifndef EXPECT_HAS
 #define EXPECT_HAS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)

@@ -1,5 +1,5 @@
-// The message of the std::invalid_argument a call throws ("" when it throws none), for tests of
-// argument checks.
+// The message of the exception a call throws ("" when it throws none), for tests of argument and
+// input checks.
 #pragma once
 
 #include <functional>
@@ -7,6 +7,17 @@
 #include <string>
 
 namespace saltus::testing {
+
+// The message of the exception of type E a call throws ("" when it throws none).
+template <class E>
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "";
+}
 
 inline std::string invalidArgumentOf(const std::function<void()>& f) {
   try {
