@@ -103,6 +103,8 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   w_.resize(nz_max);
   solver_ = LcpSolver(nz_max);
   reports_.assign(pairs_.size(), ContactReport{});
+  forced_.assign(pairs_.size(), 0);
+  in_rows_.assign(pairs_.size(), 0);
   measureContacts();
   stats_.max_penetration = stats_.max_stop_penetration = 0;
   const double g = scene_.model.gravity.norm();
@@ -151,6 +153,9 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
   const double th_h = options_.theta * h;
   const double margin = options_.contact_margin;
   double t_close = std::numeric_limits<double>::infinity();
+  rows_t_next_ = t_next;
+  rows_h_ = h;
+  rows_predict_ = predict;
   active_.clear();
   active_gap_.clear();
   active_e_.clear();
@@ -168,7 +173,7 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
       vn_free = normal.dot(J_point_[c] * v_free_);
     }
     const double gap_end = gap + th_h * vn_free;
-    if (gap > margin && (!predict || gap_end > margin)) continue;
+    if (!forced_[c] && gap > margin && (!predict || gap_end > margin)) continue;
     if (!contact::withinExtent(pair, data_)) continue;  // beyond a body's plane: touches nothing
     const double vn = pair.isStop() ? pair.sign * v_[pair.coordinate] : normal.dot(J_point_[c] * v_);
     if (predict && reports_[c].gap > margin)  // open at the start, closing within the step
@@ -365,12 +370,35 @@ void TimeStepper::linearise(double h) {
 // contact LCP, v⁺ and q⁺ = q_θ + θ h v⁺ into (q_, v_); the impulses are added to the reports.
 void TimeStepper::advance(double h) {
   Eigen::VectorXd& v_next = rhs_;  // reuse storage: v⁺
-  v_next = v_free_;
-  if (m_ > 0) {
+  // The rows were chosen by the free motion; an impulse on one row can drive another contact
+  // closed within the step (a chain striking several stops): such a contact gets a row and the
+  // LCP is solved again, until none is passed (a few rounds at most).
+  for (int round = 0;; ++round) {
+    v_next = v_free_;
+    if (m_ == 0) break;
     int n_lambda = 0;
     for (int r = 0; r < m_; ++r) n_lambda += pairs_[active_[r]].k() > 0;
     solveLcp(m_ + f_ + n_lambda, h);
     applyImpulses(m_ + f_, v_next);  // v⁺ = v* + M⁻¹ (Nᵀ p_n + Dᵀ β)
+    if (h <= 0 || round == 8) break;
+    std::fill(in_rows_.begin(), in_rows_.end(), 0);
+    for (int r = 0; r < m_; ++r) in_rows_[active_[r]] = 1;
+    bool passed = false;
+    for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
+      if (in_rows_[c] || !contact::withinExtent(pairs_[c], data_)) continue;
+      const contact::ContactPair& pair = pairs_[c];
+      const double vn = pair.isStop() ? pair.sign * v_next[pair.coordinate]
+                                      : contact::planeNormal(pair, data_).dot(J_point_[c] * v_next);
+      if (contact::gap(pair, data_, q_theta_.data()) + options_.theta * h * vn < -options_.penetration_tolerance) {
+        forced_[c] = 1;
+        passed = true;
+      }
+    }
+    if (!passed) break;
+    buildRows(rows_t_next_, rows_h_, rows_predict_);
+  }
+  std::fill(forced_.begin(), forced_.end(), 0);
+  if (m_ > 0) {
     // Impulses per contact, tangential ones in the surface basis.
     int fr = m_;
     for (int r = 0; r < m_; ++r) {

@@ -176,6 +176,11 @@ class TimeStepper {
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per pair: its relative Jacobian, 3 × nv
   // Active rows: normal rows first (contacts then limits), then the friction rows.
   std::vector<int> active_;           // indices into contacts (≥ n_contacts: limits)
+  // Per pair: made active in this (sub-)step because the solution without it would pass it (an
+  // impulse elsewhere drove it closed: a chain's stops), and whether it has a row now.
+  std::vector<char> forced_, in_rows_;
+  double rows_t_next_ = 0, rows_h_ = 0;  // buildRows' last arguments, for a re-solve
+  bool rows_predict_ = false;
   std::vector<double> active_gap_, active_e_;
   std::vector<int> solved_active_;    // active_ of the last contact LCP whose solution z_ holds
   // J_ = [N; D]: the m normal rows, then the f friction rows (each row of J_ is a row of N or D).
