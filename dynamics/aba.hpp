@@ -179,6 +179,22 @@ template <class S>
   const int k = model.first_coordinate[i];
   const Motion<S>* Scol = &data.S_joint[k];
   const S* t = tau.data() + k;
+  if (model.joint_type[i] == JointType::FreeQuaternion) {
+    // S = [(0; t_k), (e_k; 0)] with orthonormal t_k: f_J = (τ_ω; Σ t_k τ_k), q̇̇ = (t_kᵀ d_v; d_ω).
+    Vec6<S> rhs;
+    rhs << t[3], t[4], t[5], Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+    rhs -= data.pA[i].vector();
+    Mat6<S>& L = data.D_chol[i];
+    L = data.IA[i];
+    choleskyInPlace(L, 6);
+    solveLower(L, 6, rhs.data());
+    solveUpper(L, 6, rhs.data());
+    const Motion<S> a = Motion<S>::FromVector(rhs);
+    const Motion<S> d = a - ap;
+    S* x = data.qdd.data() + k;
+    for (int c = 0; c < 3; ++c) x[c] = Scol[c].v.dot(d.v), x[3 + c] = d.w[c];
+    return a;
+  }
   const S cr = Scol[4].w[1], sr = -Scol[4].w[2], sp = -Scol[3].w[0];
   const S cp = Scol[3].w[1] * sr + Scol[3].w[2] * cr;
   // f_J = S⁻ᵀ τ.
@@ -227,7 +243,7 @@ template <class S>
 template <class S>
 const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                    const VecRef<S>& v, const VecRef<S>& tau) {
-  checkArgumentSize(model, q.size(), "aba", "q");
+  checkConfigurationSize(model, q.size(), "aba", "q");
   checkArgumentSize(model, v.size(), "aba", "v");
   checkArgumentSize(model, tau.size(), "aba", "tau");
   const int nb = model.nbodies();
@@ -290,7 +306,7 @@ const VecX<S>& aba(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
       data.pA[p] += X.applyTranspose(Force<S>{Vec3<S>(pa[0], pa[1], pa[2]), Vec3<S>(pa[3], pa[4], pa[5])});
     });
   }
-  const bool free_root = b && model.joint_type[0] == JointType::Free;
+  const bool free_root = b && (model.joint_type[0] == JointType::Free || model.joint_type[0] == JointType::FreeQuaternion);
   if (b && !free_root) detail::abaMultiJointInward(model, data, 0, tau);  // a free root: pass 3 only
   // Pass 3: accelerations, root to leaves (RBDA 7.46, 7.47).
   const Motion<S> a0{Vec3<S>(S(0), S(0), S(0)), Vec3<S>(S(-model.gravity[0]), S(-model.gravity[1]), S(-model.gravity[2]))};

@@ -12,6 +12,7 @@ const char* toString(BaseType base) {
     case BaseType::Fixed: return "fixed";
     case BaseType::Planar: return "planar";
     case BaseType::Free: return "free";
+    case BaseType::FreeQuaternion: return "free_quaternion";
   }
   return "?";
 }
@@ -22,6 +23,7 @@ const char* toString(JointType type) {
     case JointType::Prismatic: return "prismatic";
     case JointType::Planar: return "planar";
     case JointType::Free: return "free";
+    case JointType::FreeQuaternion: return "free_quaternion";
   }
   return "?";
 }
@@ -197,6 +199,11 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
                               {"base_x", "base_y", "base_z", "base_yaw", "base_pitch", "base_roll"});
       model.n_base = 6;
       break;
+    case BaseType::FreeQuaternion:
+      body_of[root] = addBody(-1, JointType::FreeQuaternion, Eigen::Vector3d::Zero(), root_name,
+                              {"base_x", "base_y", "base_z", "base_wx", "base_wy", "base_wz"});
+      model.n_base = 6;
+      break;
   }
   std::vector<int> moving_link_of_body(bodies.size(), -1);
   if (base != BaseType::Fixed) moving_link_of_body[body_of[root]] = root;
@@ -285,12 +292,22 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
     }
   }
   model.numberCoordinates();
+  model.position_name = model.coordinate_name;
+  if (base == BaseType::FreeQuaternion) {  // (x, y, z, w_x, w_y, w_z) -> (x, y, z, q_w, q_x, q_y, q_z)
+    const std::vector<std::string> quaternion{"base_qw", "base_qx", "base_qy", "base_qz"};
+    model.position_name.erase(model.position_name.begin() + 3, model.position_name.begin() + 6);
+    model.position_name.insert(model.position_name.begin() + 3, quaternion.begin(), quaternion.end());
+  }
   prepareKernels(model);
   const int n = model.nv();
   for (int b = 0; b < n; ++b)
     for (int c = b + 1; c < n; ++c)
       if (model.coordinate_name[b] == model.coordinate_name[c])
         fail("coordinate name '" + model.coordinate_name[b] + "' is used twice (a joint clashes with a base coordinate)");
+  for (int b = 3; b < 7 && base == BaseType::FreeQuaternion; ++b)
+    for (int c = 0; c < n; ++c)
+      if (model.position_name[b] == model.coordinate_name[c])
+        fail("coordinate name '" + model.coordinate_name[c] + "' is used twice (a joint clashes with a base coordinate)");
   return model;
 }
 

@@ -68,7 +68,7 @@ SALTUS_INLINE void addInertiaToParent(const XForm& X, const RigidInertia<S>& I, 
 // taken once per body.
 template <class S>
 const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
-  checkArgumentSize(model, q.size(), "crba", "q");
+  checkConfigurationSize(model, q.size(), "crba", "q");
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;  // first one-coordinate body
   const int off = model.nv() - nb;                                // its coordinate k = i + off
@@ -101,7 +101,7 @@ const MatX<S>& crba(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
       for (int c = 0; c < nc; ++c) M(j + off, c) = M(c, j + off) = column[c];
     }
     const RigidInertia<S>& I0 = data.Ic[0];
-    if (model.joint_type[0] == JointType::Free) {
+    if (model.joint_type[0] == JointType::Free || model.joint_type[0] == JointType::FreeQuaternion) {
       // Translation columns s_c = (0; t_c), rotation columns s_c = (w_c; 0) (joint.hpp):
       // I s = (h × t; m t) and (Ī w; −h × w), and each product with a column is a 3-vector dot.
       Force<S> F0[6];

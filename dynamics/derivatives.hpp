@@ -22,12 +22,21 @@ namespace saltus::dynamics {
 template <int N>
 using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
 
+inline const Model<double>& checkedForDerivatives(const Model<double>& model) {
+  if (model.base == BaseType::FreeQuaternion)
+    throw std::invalid_argument("derivatives of model '" + model.name +
+                                "': a free_quaternion base has no orientation coordinates to differentiate along; "
+                                "use the Euler-angle base 'free' (away from pitch ±π/2)");
+  return model;
+}
+
 // Workspace for the derivative algorithms: the model cast to dual numbers once, its Data, and
-// the results.
+// the results. Derivatives are taken along the coordinates, so a FreeQuaternion base (whose
+// orientation has no coordinates of its own) is refused: the optimiser keeps the Euler base.
 template <int N = 8>
 struct DerivativeData {
   explicit DerivativeData(const Model<double>& model)
-      : model_dual(model.template cast<Dual<N>>()),
+      : model_dual(checkedForDerivatives(model).template cast<Dual<N>>()),
         data_dual(model_dual),
         data(model),
         q(model.nv()), v(model.nv()), w(model.nv()),

@@ -3,6 +3,7 @@
 
 #include "dynamics/aba.hpp"
 #include "dynamics/builder.hpp"
+#include "dynamics/configuration.hpp"
 #include "dynamics/crba.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/energy.hpp"

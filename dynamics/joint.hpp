@@ -322,14 +322,34 @@ SALTUS_INLINE void withTurnedJoint(const Model<S>& model, const Transform<S>& X_
 //   c_J = (ω_B × s_φ φ̇ + s_ψ ψ̇ × s_θ θ̇ ;  v_B × ω_B).
 // Planar (x, z, θ): p = (x, 0, z), R = Ry(θ); columns (0; Rᵀ x), (0; Rᵀ z), (y; 0), and
 // c_J = (0; v_B × ω_B).
+// FreeQuaternion (x, y, z, q_w, q_x, q_y, q_z; velocities ṗ, ω_B): R = R(q/|q|) (the quaternion is
+// normalised here, so a q off the unit sphere by rounding still gives a rotation), columns
+// (0; Rᵀ e_k) for ṗ and (e_k; 0) for ω_B, so v ≠ q̇ and S does not depend on the orientation's
+// coordinates; with Ṡ = (0; −ω_B × Rᵀ e_k) for the translation columns only,
+// c_J = (0; v_B × ω_B).
 
 // ^iX_λ(i) = X_J(q_i) X_T(i) (RBDA 4.32) for a multi-coordinate joint; writes the columns of S_i
-// to Scol[0 .. n_i). q points at the joint's first coordinate.
+// to Scol[0 .. n_i). q points at the joint's first position coordinate.
 template <class S>
 [[gnu::noinline]] Transform<S> multiJointTransformUp(const Model<S>& model, int i, const S* q, Motion<S>* Scol) {
   const S zero(0), one(1);
   Transform<S> XJ;
-  if (model.joint_type[i] == JointType::Free) {
+  if (model.joint_type[i] == JointType::FreeQuaternion) {
+    using std::sqrt;
+    const S n = sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]);
+    const S w = q[3] / n, x = q[4] / n, y = q[5] / n, z = q[6] / n;
+    // E = Rᵀ with R the rotation of the unit quaternion (w, x, y, z).
+    XJ.E << one - S(2) * (y * y + z * z), S(2) * (x * y + w * z), S(2) * (x * z - w * y),
+            S(2) * (x * y - w * z), one - S(2) * (x * x + z * z), S(2) * (y * z + w * x),
+            S(2) * (x * z + w * y), S(2) * (y * z - w * x), one - S(2) * (x * x + y * y);
+    XJ.r[0] = q[0], XJ.r[1] = q[1], XJ.r[2] = q[2];
+    for (int k = 0; k < 3; ++k) {
+      Scol[k] = {Vec3<S>(zero, zero, zero), Vec3<S>(XJ.E(0, k), XJ.E(1, k), XJ.E(2, k))};
+      Vec3<S> e(zero, zero, zero);
+      e[k] = one;
+      Scol[3 + k] = {e, Vec3<S>(zero, zero, zero)};
+    }
+  } else if (model.joint_type[i] == JointType::Free) {
     S cy, sy, cp, sp, cr, sr;
     sinCos(q[3], sy, cy);
     sinCos(q[4], sp, cp);
@@ -367,6 +387,9 @@ template <class S>
 // v_J = S_i q̇_i.
 template <class S>
 [[gnu::noinline]] Motion<S> multiJointVelocity(const Model<S>& model, int i, const Motion<S>* Scol, const S* qd) {
+  if (model.joint_type[i] == JointType::FreeQuaternion)
+    return {Vec3<S>(qd[3], qd[4], qd[5]),
+            add3(add3(scale3(Scol[0].v, qd[0]), scale3(Scol[1].v, qd[1])), scale3(Scol[2].v, qd[2]))};
   if (model.joint_type[i] == JointType::Free)
     return {add3(add3(scale3(Scol[3].w, qd[3]), scale3(Scol[4].w, qd[4])), scale3(Scol[5].w, qd[5])),
             add3(add3(scale3(Scol[0].v, qd[0]), scale3(Scol[1].v, qd[1])), scale3(Scol[2].v, qd[2]))};
@@ -378,6 +401,7 @@ template <class S>
 [[gnu::noinline]] Motion<S> multiJointBias(const Model<S>& model, int i, const Motion<S>* Scol, const S* qd,
                                            const Motion<S>& vJ) {
   const Vec3<S> lin = cross3(vJ.v, vJ.w);
+  if (model.joint_type[i] == JointType::FreeQuaternion) return {Vec3<S>(S(0), S(0), S(0)), lin};
   if (model.joint_type[i] == JointType::Free) {
     const Vec3<S> w_roll(qd[5], S(0), S(0));
     return {add3(cross3(vJ.w, w_roll), cross3(scale3(Scol[3].w, qd[3]), scale3(Scol[4].w, qd[4]))), lin};
@@ -388,7 +412,9 @@ template <class S>
 // S_iᵀ f into out[0 .. n_i): inline, and out of line below.
 template <class S>
 SALTUS_INLINE void multiJointProject(const Model<S>& model, int i, const Motion<S>* Scol, const Force<S>& f, S* out) {
-  if (model.joint_type[i] == JointType::Free) {
+  if (model.joint_type[i] == JointType::FreeQuaternion) {
+    for (int k = 0; k < 3; ++k) out[k] = dot3(Scol[k].v, f.f), out[3 + k] = f.n[k];
+  } else if (model.joint_type[i] == JointType::Free) {
     for (int k = 0; k < 3; ++k) out[k] = dot3(Scol[k].v, f.f);
     out[3] = dot3(Scol[3].w, f.n);
     out[4] = dot3(Scol[4].w, f.n);

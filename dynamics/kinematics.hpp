@@ -12,22 +12,22 @@ namespace saltus::dynamics {
 // ^iX_λ(i) for body i; for a multi-coordinate joint also its S_i(q) columns into data.S_joint.
 template <class S>
 SALTUS_INLINE const Transform<S>& updateJointTransform(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& q) {
-  const int k = model.first_coordinate[i];
-  data.X_up[i] = model.num_coordinates[i] == 1 ? jointTransformUp(model, i, q[k])
-                                               : multiJointTransformUp(model, i, q.data() + k, &data.S_joint[k]);
+  const int k = model.first_coordinate[i], kq = model.first_position[i];
+  data.X_up[i] = model.num_coordinates[i] == 1 ? jointTransformUp(model, i, q[kq])
+                                               : multiJointTransformUp(model, i, q.data() + kq, &data.S_joint[k]);
   return data.X_up[i];
 }
 
 // jcalc (RBDA 4.4) for the one-coordinate joints, bodies b ≤ i < nb after a multi-coordinate root
 // (b = 1) or all (b = 0): ^iX_λ into data.X_up in the forms of withJoint. For double the cos and
-// sin of their coordinates (contiguous, k = i + nv − nb) are computed together first
+// sin of their coordinates (contiguous, q index i + nq − nb) are computed together first
 // (sinCosMany) into data.cos_q, data.sin_q. RNEA, CRBA and ABA share it, so their X_up agree to
 // the last bit.
 template <class S>
 void updateOneCoordinateJointTransforms(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   const int nb = model.nbodies();
   const int b = nb > 0 && model.num_coordinates[0] > 1 ? 1 : 0;
-  const int off = model.nv() - nb;
+  const int off = model.nq() - nb;
   const auto none = [](const auto&, const auto&) SALTUS_LAMBDA_INLINE {};
   if constexpr (std::is_same_v<S, double>) {
     sinCosMany(q.data() + b + off, nb - b, data.sin_q.data() + b, data.cos_q.data() + b);
@@ -62,7 +62,7 @@ SALTUS_INLINE Motion<S> jointAcceleration(const Model<S>& model, const Data<S>& 
 // Poses: data.X_up, data.X_world.
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
-  checkArgumentSize(model, q.size(), "forwardKinematics", "q");
+  checkConfigurationSize(model, q.size(), "forwardKinematics", "q");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);
     const int p = model.parent[i];
@@ -74,7 +74,7 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q)
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
                        const VecRef<S>& v) {
-  checkArgumentSize(model, q.size(), "forwardKinematics", "q");
+  checkConfigurationSize(model, q.size(), "forwardKinematics", "q");
   checkArgumentSize(model, v.size(), "forwardKinematics", "v");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);
@@ -99,7 +99,7 @@ void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q,
 // duals where those unused terms cost as much as the velocities).
 template <class S>
 void forwardVelocities(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v) {
-  checkArgumentSize(model, q.size(), "forwardVelocities", "q");
+  checkConfigurationSize(model, q.size(), "forwardVelocities", "q");
   checkArgumentSize(model, v.size(), "forwardVelocities", "v");
   for (int i = 0; i < model.nbodies(); ++i) {
     updateJointTransform(model, data, i, q);

@@ -2,13 +2,16 @@
 //
 // Every body i has exactly one joint connecting it to its parent λ(i) < i (−1 is the fixed
 // world). Joints of URDF links have one coordinate; a floating base is one multi-coordinate
-// joint (JointType::Planar, 3 coordinates, or JointType::Free, 6) on the root body. Body i's
-// coordinates are first_coordinate[i] .. first_coordinate[i] + num_coordinates[i] − 1, so a body
-// index is a coordinate index only while every joint has one coordinate (fixed-base models).
+// joint (JointType::Planar, 3 coordinates, JointType::Free or FreeQuaternion, 6) on the root body.
+// Body i's velocity coordinates are first_coordinate[i] .. first_coordinate[i] + num_coordinates[i]
+// − 1, so a body index is a coordinate index only while every joint has one coordinate (fixed-base
+// models).
 // Bodies are numbered depth first (the builder's order), so the subtree of body i is the range
 // [i, subtree_end[i]). Coordinates follow the bodies' order. Fixed URDF joints are merged into their
-// parent body. Generalised velocities are always the time derivatives of the coordinates:
-// v = q̇, nq = nv.
+// parent body. The generalised velocities are the time derivatives of the coordinates (v = q̇,
+// nq = nv) except for a FreeQuaternion base, whose orientation is a unit quaternion (four
+// position coordinates for three velocity ones: nq = nv + 1, configuration.hpp); body i's first
+// position coordinate is first_position[i].
 #pragma once
 
 #include <algorithm>
@@ -23,8 +26,8 @@
 namespace saltus::dynamics {
 
 // Revolute, Prismatic: one coordinate along / about `axis`.
-// Planar: the three coordinates of BaseType::Planar; Free: the six of BaseType::Free (below).
-enum class JointType { Revolute, Prismatic, Planar, Free };
+// Planar, Free, FreeQuaternion: the coordinates of the BaseType of that name (below).
+enum class JointType { Revolute, Prismatic, Planar, Free, FreeQuaternion };
 
 // How the tree's root link is attached to the world.
 //  Fixed:  the root link is the world.
@@ -33,10 +36,16 @@ enum class JointType { Revolute, Prismatic, Planar, Free };
 //  Free:   coordinates (base_x, base_y, base_z, base_yaw, base_pitch, base_roll): translation in
 //          world axes, then intrinsic Z–Y′–X″ Euler angles (yaw ψ, pitch θ, roll φ), so the base
 //          orientation is R = Rz(ψ) Ry(θ) Rx(φ). Singular at θ = ±π/2 (gimbal lock), where the
-//          mass matrix loses rank; keep pitch away from ±π/2 or re-parametrise.
-// Planar and Free bases are one joint (JointType::Planar / Free) between the world and the root
-// link's body, body 0, whose frame is the root link frame.
-enum class BaseType { Fixed, Planar, Free };
+//          mass matrix loses rank; keep pitch away from ±π/2 or use FreeQuaternion.
+//  FreeQuaternion: position coordinates (base_x, base_y, base_z, base_qw, base_qx, base_qy,
+//          base_qz): the origin in world axes and the unit quaternion of R (scalar first, as
+//          MuJoCo and Drake); velocity coordinates (base_x, base_y, base_z, base_wx, base_wy,
+//          base_wz): the world velocity of the origin ṗ and the angular velocity ω_B in body
+//          axes (MuJoCo's free joint). No singular orientation: a body can tumble. Positions
+//          move on the manifold (configuration.hpp, integrate), not by q += v dt.
+// Floating bases are one joint (JointType::Planar / Free / FreeQuaternion) between the world and
+// the root link's body, body 0, whose frame is the root link frame.
+enum class BaseType { Fixed, Planar, Free, FreeQuaternion };
 
 const char* toString(BaseType base);
 const char* toString(JointType type);
@@ -136,10 +145,12 @@ struct Model {
   std::vector<bool> massless;              // I_i = 0 (intermediate links of multi-axis mechanisms)
   std::vector<std::string> body_name;
   std::vector<int> first_coordinate;       // index of body i's first coordinate
-  std::vector<int> num_coordinates;        // 1, or 3 (Planar), 6 (Free): only body 0 (parent −1) may have more than 1
+  std::vector<int> num_coordinates;        // 1, or 3 (Planar), 6 (Free, FreeQuaternion): only body 0 (parent −1) may have more than 1
+  std::vector<int> first_position;         // index of body i's first position coordinate in q
 
   // Per coordinate k.
-  std::vector<std::string> coordinate_name;  // URDF joint name (or base_x ...)
+  std::vector<std::string> coordinate_name;  // per velocity coordinate: URDF joint name (or base_x ...)
+  std::vector<std::string> position_name;    // per position coordinate (nq): coordinate_name but for a quaternion base
   std::vector<JointLimits> limits;
   std::vector<int> coordinate_body;          // the body whose joint coordinate k belongs to
   // The coordinate before k on the path to the root: k − 1 inside a multi-coordinate joint, else
@@ -153,7 +164,9 @@ struct Model {
   std::vector<Visual> visuals;
 
   int nv() const { return static_cast<int>(coordinate_body.size()); }
-  int nq() const { return nv(); }
+  int nq() const { return nv() + (base == BaseType::FreeQuaternion ? 1 : 0); }
+  // The position coordinate of velocity coordinate k outside a quaternion base's rotation.
+  int positionOf(int k) const { return k < n_base ? k : k + nq() - nv(); }
   int nbodies() const { return static_cast<int>(parent.size()); }
   // Whether coordinate k is a length (prismatic joint, base translation) rather than an angle.
   bool isTranslation(int k) const {
@@ -161,7 +174,7 @@ struct Model {
     const JointType t = joint_type[b];
     if (t == JointType::Prismatic) return true;
     if (t == JointType::Revolute) return false;
-    return k - first_coordinate[b] < num_coordinates[b] - (t == JointType::Free ? 3 : 1);
+    return k - first_coordinate[b] < num_coordinates[b] - (t == JointType::Planar ? 1 : 3);
   }
   S totalMass() const {
     S m(0);
@@ -171,6 +184,7 @@ struct Model {
   // −1 when absent.
   int bodyIndex(const std::string& body) const;
   int coordinateIndex(const std::string& coordinate) const;
+  int positionIndex(const std::string& position) const;
   int frameIndex(const std::string& frame) const;
   // true when body a is b or an ancestor of b.
   bool isAncestor(int a, int b) const {
@@ -181,10 +195,13 @@ struct Model {
   // num_coordinates (the builder calls it).
   void numberCoordinates() {
     first_coordinate.assign(parent.size(), 0);
+    first_position.assign(parent.size(), 0);
     coordinate_body.clear();
     parent_coordinate.clear();
-    for (int i = 0; i < nbodies(); ++i) {
+    for (int i = 0, position = 0; i < nbodies(); ++i) {
       first_coordinate[i] = static_cast<int>(coordinate_body.size());
+      first_position[i] = position;
+      position += num_coordinates[i] + (joint_type[i] == JointType::FreeQuaternion ? 1 : 0);
       for (int c = 0; c < num_coordinates[i]; ++c) {
         const int p = parent[i];
         parent_coordinate.push_back(c > 0 ? first_coordinate[i] + c - 1
@@ -220,7 +237,9 @@ struct Model {
     m.body_name = body_name;
     m.first_coordinate = first_coordinate;
     m.num_coordinates = num_coordinates;
+    m.first_position = first_position;
     m.coordinate_name = coordinate_name;
+    m.position_name = position_name;
     m.limits = limits;
     m.coordinate_body = coordinate_body;
     m.parent_coordinate = parent_coordinate;
@@ -352,6 +371,12 @@ int Model<S>::coordinateIndex(const std::string& coordinate) const {
   return -1;
 }
 template <class S>
+int Model<S>::positionIndex(const std::string& position) const {
+  for (int i = 0; i < nq(); ++i)
+    if (position_name[i] == position) return i;
+  return -1;
+}
+template <class S>
 int Model<S>::frameIndex(const std::string& frame) const {
   for (int i = 0; i < static_cast<int>(frames.size()); ++i)
     if (frames[i].name == frame) return i;
@@ -367,6 +392,12 @@ template <class S>
 inline void checkArgumentSize(const Model<S>& model, long size, const char* function, const char* argument) {
   if (size != model.nv()) [[unlikely]]
     argumentSizeError(function, argument, size, model.nv());
+}
+// The same for a configuration q (nq entries).
+template <class S>
+inline void checkConfigurationSize(const Model<S>& model, long size, const char* function, const char* argument) {
+  if (size != model.nq()) [[unlikely]]
+    argumentSizeError(function, argument, size, model.nq());
 }
 
 }  // namespace saltus::dynamics

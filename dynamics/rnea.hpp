@@ -113,7 +113,7 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>* q, co
 template <class S>
 const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v,
                     const VecRef<S>& a) {
-  checkArgumentSize(model, q.size(), "rnea", "q");
+  checkConfigurationSize(model, q.size(), "rnea", "q");
   checkArgumentSize(model, v.size(), "rnea", "v");
   checkArgumentSize(model, a.size(), "rnea", "a");
   return detail::rnea(model, data, &q, v, &a);
@@ -122,7 +122,7 @@ const VecX<S>& rnea(const Model<S>& model, Data<S>& data, const VecRef<S>& q, co
 // h(q, q̇) = C(q, q̇) q̇ + g(q): RNEA with q̈ = 0. Result in data.tau.
 template <class S>
 const VecX<S>& nonLinearEffects(const Model<S>& model, Data<S>& data, const VecRef<S>& q, const VecRef<S>& v) {
-  checkArgumentSize(model, q.size(), "nonLinearEffects", "q");
+  checkConfigurationSize(model, q.size(), "nonLinearEffects", "q");
   checkArgumentSize(model, v.size(), "nonLinearEffects", "v");
   return detail::rnea<S>(model, data, &q, v, nullptr);
 }

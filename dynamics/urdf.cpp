@@ -383,7 +383,8 @@ BaseType parseBaseType(const std::string& s) {
   if (s == "fixed") return BaseType::Fixed;
   if (s == "planar") return BaseType::Planar;
   if (s == "free") return BaseType::Free;
-  throw std::invalid_argument("unknown base type '" + s + "' (expected fixed, planar or free)");
+  if (s == "free_quaternion") return BaseType::FreeQuaternion;
+  throw std::invalid_argument("unknown base type '" + s + "' (expected fixed, planar, free or free_quaternion)");
 }
 
 }  // namespace saltus::dynamics

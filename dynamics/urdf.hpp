@@ -36,7 +36,7 @@ Model<double> loadUrdfFile(const std::string& path, BaseType base = BaseType::Fi
 Model<double> loadUrdfString(const std::string& xml, BaseType base = BaseType::Fixed,
                              const std::string& source_name = "<string>");
 
-// "fixed" | "planar" | "free"; anything else throws std::invalid_argument naming the accepted values.
+// "fixed" | "planar" | "free" | "free_quaternion"; anything else throws std::invalid_argument naming the accepted values.
 BaseType parseBaseType(const std::string& s);
 
 }  // namespace saltus::dynamics

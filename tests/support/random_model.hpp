@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "dynamics/builder.hpp"
+#include "dynamics/data.hpp"
 
 namespace saltus::testing {
 
