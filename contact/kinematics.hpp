@@ -64,7 +64,7 @@ Vec3<S> contactPoint(const ContactPair& pair, const dynamics::Data<S>& data) {
 // The gap φ(q): n·(x − plane point) for a point on a plane, sign·(q_i − limit) for a stop.
 template <class S>
 S gap(const ContactPair& pair, const dynamics::Data<S>& data, const S* q) {
-  if (pair.isStop()) return S(pair.sign) * (q[pair.coordinate] - S(pair.limit));
+  if (pair.isStop()) return S(pair.sign) * (q[pair.position] - S(pair.limit));
   const Vec3<S> x = contactPoint(pair, data);
   if (pair.body_b < 0) return pair.normal_B.cast<S>().dot(x - pair.plane_point_B.cast<S>());
   const PlaneFrame<S> f = planeFrame(pair, data);

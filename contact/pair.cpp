@@ -36,6 +36,7 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.name = l.name;
     p.kind = PairKind::JointStop;
     p.coordinate = l.coordinate;
+    p.position = scene.model.positionOf(l.coordinate);
     p.sign = l.upper ? -1.0 : 1.0;
     p.limit = l.limit;
     p.directions_B = Eigen::Matrix3Xd(3, 0);

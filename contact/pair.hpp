@@ -41,7 +41,8 @@ struct ContactPair {
   int surface = -1;  // the scene surface the plane is (its velocity schedule), −1: none
 
   // JointStop.
-  int coordinate = -1;
+  int coordinate = -1;  // velocity coordinate (v, Jacobian columns)
+  int position = -1;    // its position coordinate in q (model.positionOf: shifted by a quaternion base)
   double sign = 1;  // +1 lower limit, −1 upper limit
   double limit = 0;
 

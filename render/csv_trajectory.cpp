@@ -32,15 +32,17 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
   const scene::TrajectoryTable table = scene::readTrajectoryCsv(path);
   auto find = [&](const std::string& name) { return table.column(name); };
   const dynamics::Model<double>& model = scene.model;
-  const int nq = model.nq();
-  std::vector<int> q_col(nq), v_col(nq);
-  bool have_v = true;
+  const int nq = model.nq(), nv = model.nv();
+  std::vector<int> q_col(nq), v_col(nv);
   for (int k = 0; k < nq; ++k) {
-    q_col[k] = find("q." + model.coordinate_name[k]);
+    q_col[k] = find("q." + model.position_name[k]);
     if (q_col[k] < 0)
-      throw std::runtime_error(path + ":1: no column 'q." + model.coordinate_name[k] + "' for coordinate '" +
-                               model.coordinate_name[k] + "' of model '" + model.name +
+      throw std::runtime_error(path + ":1: no column 'q." + model.position_name[k] + "' for coordinate '" +
+                               model.position_name[k] + "' of model '" + model.name +
                                "' (is this trajectory from another scene?)");
+  }
+  bool have_v = true;
+  for (int k = 0; k < nv; ++k) {
     v_col[k] = find("v." + model.coordinate_name[k]);
     have_v = have_v && v_col[k] >= 0;
   }
@@ -64,6 +66,14 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
     t_.push_back(row[0]);
     Eigen::VectorXd q(nq);
     for (int k = 0; k < nq; ++k) q[k] = row[q_col[k]];
+    if (model.base == dynamics::BaseType::FreeQuaternion) {
+      const double n = q.segment<4>(3).norm();
+      if (!(std::abs(n - 1.0) <= 1e-6))
+        throw std::runtime_error(path + ": at t = " + std::to_string(row[0]) +
+                                 " s the base quaternion (base_qw, base_qx, base_qy, base_qz) has length " +
+                                 std::to_string(n) + ", not 1");
+      q.segment<4>(3) /= n;
+    }
     q_.push_back(q);
   }
 
@@ -86,13 +96,10 @@ CsvTrajectory::CsvTrajectory(const std::string& path, const scene::Scene& scene)
     const std::vector<contact::ContactPair> pairs = contact::contactPairs(scene);  // contacts first
     std::vector<std::vector<Eigen::Vector3d>> v_point(rows.size(), std::vector<Eigen::Vector3d>(nc, Eigen::Vector3d::Zero()));
     if (have_v) {
-      Eigen::VectorXd q(nq), v(nq);
+      Eigen::VectorXd v(nv);
       for (std::size_t i = 0; i < rows.size(); ++i) {
-        for (int k = 0; k < nq; ++k) {
-          q[k] = rows[i][q_col[k]];
-          v[k] = rows[i][v_col[k]];
-        }
-        dynamics::forwardKinematics(model, data, q, v);
+        for (int k = 0; k < nv; ++k) v[k] = rows[i][v_col[k]];
+        dynamics::forwardKinematics(model, data, q_[i], v);
         for (int c = 0; c < nc; ++c) v_point[i][c] = contact::relativeVelocity(pairs[c], data);
       }
     }
@@ -127,6 +134,8 @@ Eigen::VectorXd CsvTrajectory::q(double t) const {
   const std::size_t lo = hi - 1;
   const double h = t_[hi] - t_[lo];  // > 0: t_[lo] ≤ t < t_[hi]
   const double s = (t - t_[lo]) / h;
+  // A base quaternion interpolated so is normalised by the kinematics (nlerp: between samples a
+  // step apart, within rounding of the rotation's slerp for the renderer's purpose).
   return (1 - s) * q_[lo] + s * q_[hi];
 }
 

@@ -1,5 +1,6 @@
 #include "scene/scenario.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cctype>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "dynamics/builder.hpp"
+#include "dynamics/configuration.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "dynamics/urdf.hpp"
@@ -53,6 +55,7 @@ class Loader {
                               const Eigen::Vector3d& gravity, const YAML::Node& base_node);
   std::vector<dynamics::Visual> readVisuals(const YAML::Node& node, const std::string& path,
                                             const std::string& link, int body);
+  Eigen::VectorXd readInitialConfiguration(const YAML::Node& node, const Model<double>& model);
   Eigen::VectorXd readCoordinateMap(const YAML::Node& node, const std::string& path,
                                     const Model<double>& model);
   int coordinate(const YAML::Node& name_node, const std::string& path, const Model<double>& model) const;
@@ -266,6 +269,65 @@ Eigen::VectorXd Loader::readCoordinateMap(const YAML::Node& node, const std::str
   return x;
 }
 
+// initial.q of a quaternion base: its position coordinates by name (base_x, ..., base_qw, base_qx,
+// base_qy, base_qz, joints), or the orientation as base_yaw, base_pitch, base_roll (R = Rz(ψ)
+// Ry(θ) Rx(φ), as the Euler base), not both. A quaternion given in part has its other
+// components 0 and must be of unit length within 1e-3 (rounded values such as 0.7071 are
+// normalised); none given is the identity. Other bases: readCoordinateMap.
+Eigen::VectorXd Loader::readInitialConfiguration(const YAML::Node& node, const Model<double>& model) {
+  if (model.base != BaseType::FreeQuaternion) return readCoordinateMap(node, "initial.q", model);
+  Eigen::VectorXd q = dynamics::neutralConfiguration(model);
+  if (!node.IsDefined()) return q;
+  r_.checkNameMap(node, "initial.q");
+  if (node.IsNull()) return q;
+  const std::vector<std::string> euler{"base_yaw", "base_pitch", "base_roll"};
+  std::vector<std::string> accepted = model.position_name;
+  accepted.insert(accepted.end(), euler.begin(), euler.end());
+  Eigen::Vector3d angles = Eigen::Vector3d::Zero();
+  Eigen::Vector4d quaternion = Eigen::Vector4d::Zero();
+  YAML::Node quaternion_node, euler_node;
+  bool has_quaternion = false, has_euler = false;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string name = r_.text(it->first, "initial.q");
+    const std::string p = keyPath("initial.q", name);
+    const double x = r_.number(it->second, p);
+    if (std::abs(x) > kMaxPosition)
+      r_.fail(it->second, p, "expected at most " + fmt(kMaxPosition) + " in magnitude, got " + fmt(x));
+    const auto e = std::find(euler.begin(), euler.end(), name);
+    const int k = model.positionIndex(name);
+    if (e != euler.end()) {
+      angles[e - euler.begin()] = x;
+      euler_node = it->first;
+      has_euler = true;
+    } else if (k >= 3 && k < 7) {
+      quaternion[k - 3] = x;
+      quaternion_node = it->first;
+      has_quaternion = true;
+    } else if (k >= 0) {
+      q[k] = x;
+    } else {
+      r_.fail(it->first, p, "unknown coordinate '" + name + "'" + suggestion(name, accepted) +
+                                "; the model's position coordinates are: " + joinNames(accepted));
+    }
+  }
+  if (has_euler && has_quaternion)
+    r_.fail(euler_node, "initial.q", "give the base orientation either as a quaternion (base_qw, base_qx, base_qy, "
+                                     "base_qz) or as base_yaw, base_pitch, base_roll, not both");
+  if (has_quaternion) {
+    const double norm = quaternion.norm();
+    if (!(std::abs(norm - 1.0) <= 1e-3))
+      r_.fail(quaternion_node, "initial.q", "the base quaternion (base_qw, base_qx, base_qy, base_qz) = " +
+                                                ("(" + fmt(quaternion[0]) + ", " + fmt(quaternion[1]) + ", " + fmt(quaternion[2]) + ", " + fmt(quaternion[3]) + ")") + " must have unit length (within 1e-3), got " + fmt(norm));
+    q.segment<4>(3) = quaternion / norm;
+  } else if (has_euler) {
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(angles[0], Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(angles[1], Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(angles[2], Eigen::Vector3d::UnitX())).toRotationMatrix();
+    q.segment<4>(3) = dynamics::rotationToQuaternion(R);
+  }
+  return q;
+}
+
 std::vector<Surface> Loader::readSurfaces(const YAML::Node& node) {
   std::vector<Surface> surfaces;
   if (!node.IsDefined()) return surfaces;
@@ -315,7 +377,7 @@ std::vector<Surface> Loader::readSurfaces(const YAML::Node& node) {
 // y preserve).
 bool isPlanar(const Model<double>& model) {
   if (model.base == BaseType::Planar) return true;
-  if (model.base == BaseType::Free) return false;
+  if (model.base == BaseType::Free || model.base == BaseType::FreeQuaternion) return false;
   dynamics::Data<double> data(model);
   const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nv());
   dynamics::forwardKinematics(model, data, q);
@@ -497,7 +559,7 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
   const YAML::Node initial = root["initial"];
   const bool has_initial = initial.IsDefined() && !initial.IsNull();
   if (initial.IsDefined()) r_.checkMap(initial, "initial", {"q", "v"}, true);
-  scene.q0 = readCoordinateMap(has_initial ? initial["q"] : YAML::Node(), "initial.q", scene.model);
+  scene.q0 = readInitialConfiguration(has_initial ? initial["q"] : YAML::Node(), scene.model);
   scene.v0 = readCoordinateMap(has_initial ? initial["v"] : YAML::Node(), "initial.v", scene.model);
   scene.initial_location = has_initial ? location(r_.file(), initial.Mark()) + ": initial"
                                        : r_.file() + ": initial state (every coordinate 0)";

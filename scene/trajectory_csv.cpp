@@ -15,6 +15,7 @@ namespace saltus::scene {
 TrajectoryLayout trajectoryLayout(const Scene& scene) {
   TrajectoryLayout layout;
   layout.coordinates = scene.model.coordinate_name;
+  layout.positions = scene.model.position_name;
   for (const Contact& c : scene.contacts) layout.contacts.push_back({c.name, c.directions > 2});
   for (const LimitStop& l : scene.limits) layout.contacts.push_back({l.name, false});
   return layout;
@@ -22,7 +23,7 @@ TrajectoryLayout trajectoryLayout(const Scene& scene) {
 
 std::vector<std::string> trajectoryHeader(const TrajectoryLayout& layout) {
   std::vector<std::string> names = {"t"};
-  for (const std::string& c : layout.coordinates) names.push_back("q." + c);
+  for (const std::string& c : layout.positions.empty() ? layout.coordinates : layout.positions) names.push_back("q." + c);
   for (const std::string& c : layout.coordinates) names.push_back("v." + c);
   for (const std::string& c : layout.inputs) names.push_back("u." + c);
   for (const TrajectoryLayout::ContactColumns& c : layout.contacts) {
@@ -58,7 +59,8 @@ TrajectoryCsvWriter::TrajectoryCsvWriter(const std::string& path, TrajectoryLayo
 void TrajectoryCsvWriter::beginRow(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                    const Eigen::VectorXd& u) {
   const std::size_t n = layout_.coordinates.size();
-  if (static_cast<std::size_t>(q.size()) != n || static_cast<std::size_t>(v.size()) != n ||
+  const std::size_t nq = layout_.positions.empty() ? n : layout_.positions.size();
+  if (static_cast<std::size_t>(q.size()) != nq || static_cast<std::size_t>(v.size()) != n ||
       static_cast<std::size_t>(u.size()) != layout_.inputs.size())
     throw std::invalid_argument(file_.path() + ": a trajectory row of the wrong size");
   std::FILE* const f = file_.stream();

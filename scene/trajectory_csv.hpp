@@ -1,7 +1,8 @@
 // The trajectory CSV of Saltus: what `saltus simulate` (the time-stepper) and `saltus optimize`
 // (the collocation) write, and what `saltus render` (render/csv_trajectory.hpp) and
 // scripts/charts.py read by column name. A header, then one row per time sample:
-//   t, q.<coordinate>…, v.<coordinate>…, u.<input coordinate>… (inputs: the optimiser's), then
+//   t, q.<position coordinate>…, v.<coordinate>…, u.<input coordinate>… (inputs: the optimiser's),
+//   then
 //   per contact (scene contacts, then limit stops)
 //   contact.<name>.gap, .vn, .vt, [.rn, .rt,] .pn, .pt
 // A spatial contact (more than two friction directions) has two columns for each tangential
@@ -29,7 +30,8 @@ struct TrajectoryLayout {
     std::string name;
     bool spatial = false;  // vt1/vt2 (rt1/rt2, pt1/pt2) instead of vt (rt, pt)
   };
-  std::vector<std::string> coordinates;
+  std::vector<std::string> coordinates;  // velocity coordinates: the v. columns
+  std::vector<std::string> positions;    // the q. columns (model.position_name); empty: as coordinates
   std::vector<std::string> inputs;  // the coordinates the inputs act on
   std::vector<ContactColumns> contacts;
   bool forces = false;  // rn and rt columns

@@ -59,6 +59,16 @@ std::vector<double> cradleVelocities(double e, double v) {
   return {(1 - 2 * e) * v / 3, (1 + e) * v / 3, (1 + e) * v / 3};
 }
 
+std::vector<double> spinFlipTimes(double I1, double I2, double I3, double w2, double w3, double t_end) {
+  const double E2 = I2 * w2 * w2 + I3 * w3 * w3, M2 = I2 * I2 * w2 * w2 + I3 * I3 * w3 * w3;  // 2E, M²
+  const double lambda = std::sqrt((I3 - I2) * (M2 - E2 * I1) / (I1 * I2 * I3));
+  const double k2 = (I2 - I1) * (E2 * I3 - M2) / ((I3 - I2) * (M2 - E2 * I1));
+  const double K = std::comp_ellint_1(std::sqrt(k2));
+  std::vector<double> t;
+  for (double x = K / lambda; x <= t_end; x += 2 * K / lambda) t.push_back(x);
+  return t;
+}
+
 double rockingImpactRatio(double b, double h) {
   const double s = std::sin(std::atan2(b, h));
   return 1 - 1.5 * s * s;

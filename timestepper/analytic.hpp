@@ -50,6 +50,13 @@ double rockingFirstTilt(const std::vector<double>& theta);
 // apart, give (0, 0, v) for e = 1 instead.)
 std::vector<double> cradleVelocities(double e, double v);
 
+// A free rigid body with principal moments I1 < I2 < I3 spinning torque-free from body rates
+// (0, ω2, ω3), ω3 ≠ 0 small (M² > 2 E I2): ω2 = b sn(τ + K, k), so ω2 first changes sign at
+// t = K(k)/λ and then every 2 K(k)/λ, with λ = √((I3 − I2)(M² − 2 E I1) / (I1 I2 I3)) and
+// k² = (I2 − I1)(2 E I3 − M²) / ((I3 − I2)(M² − 2 E I1)) (Landau and Lifshitz, Mechanics, §37).
+// Returns the flip times up to t_end (fast_spin's answer).
+std::vector<double> spinFlipTimes(double I1, double I2, double I3, double w2, double w3, double t_end);
+
 // The first apex of a bouncing trajectory: the largest height between the first and the second
 // impact, from samples (height z, normal impulse pn over the step that ended at the sample).
 // An impact is a run of consecutive samples with pn > 0; the apex is searched from the first

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "contact/kinematics.hpp"
+#include "dynamics/configuration.hpp"
 #include "dynamics/crba.hpp"
 #include "dynamics/energy.hpp"
 #include "dynamics/jacobian.hpp"
@@ -83,7 +84,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   const int nz_max = m_max + f_max + lambda_max;
   q_ = scene_.q0;
   v_ = scene_.v0;
-  q_theta_.resize(nv);
+  q_theta_.resize(scene_.model.nq());
   v_theta_.resize(nv);
   v_free_.resize(nv);
   rhs_.resize(nv);
@@ -315,7 +316,9 @@ void TimeStepper::project() {
                               toString(result.status) + ", residual " + std::to_string(result.residual),
                           t_, activeNames(), result.residual);
   }
-  applyImpulses(m_, q_);  // Δq = M⁻¹ Nᵀ p
+  impulse_.noalias() = J_.topRows(m_).transpose() * z_.head(m_);
+  choleskySolve(llt_.matrixLLT(), impulse_);
+  dynamics::integrate(model, q_, impulse_, 1.0, q_);  // q ⊕ Δ, Δ = M⁻¹ Nᵀ p
 }
 
 // Gaps and relative velocities of every contact and stop at the current state; returns whether
@@ -350,7 +353,7 @@ bool TimeStepper::measureContacts() {
 void TimeStepper::linearise(double h) {
   const dynamics::Model<double>& model = scene_.model;
   const double theta = options_.theta;
-  q_theta_ = q_ + (1 - theta) * h * v_;
+  dynamics::integrate(model, q_, v_, (1 - theta) * h, q_theta_);  // q_θ = q ⊕ (1 − θ) h v
   dynamics::forwardKinematics(model, data_, q_theta_);  // the world poses used below
   dynamics::crba(model, data_, q_theta_);  // with the joint transforms reused by h below
   llt_.compute(data_.M);
@@ -414,7 +417,7 @@ void TimeStepper::advance(double h) {
     }
   }
   v_ = v_next;
-  q_ = q_theta_ + options_.theta * h * v_;
+  dynamics::integrate(scene_.model, q_theta_, v_, options_.theta * h, q_);  // q⁺ = q_θ ⊕ θ h v⁺
 }
 
 void TimeStepper::step() {

@@ -81,6 +81,7 @@ TEST(ContactKinematics, JointStop) {
   ContactPair stop;
   stop.kind = PairKind::JointStop;
   stop.coordinate = 1;
+  stop.position = 1;
   stop.sign = -1;  // upper
   stop.limit = 0.5;
   const TwoBodies s;

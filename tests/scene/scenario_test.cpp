@@ -63,8 +63,8 @@ Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Ei
 TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners",
-                                      "chain_on_stops", "newtons_cradle", "painleve_rod", "pendulum_conveyor",
-                                      "rocking_block"}));
+                                      "chain_on_stops", "fast_spin", "newtons_cradle", "painleve_rod",
+                                      "pendulum_conveyor", "rocking_block"}));
 }
 
 TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
@@ -72,7 +72,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
       {"ball_drop", {1, 1}},         {"block_slide", {2, 1}},   {"pendulum_conveyor", {2, 1}},
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
       {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
-      {"chain_on_stops", {10, 0}}};
+      {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -82,7 +82,8 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_FALSE(s.description.empty());
     EXPECT_EQ(s.model.nv(), expected.at(name).first);
     EXPECT_EQ(static_cast<int>(s.contacts.size()), expected.at(name).second);
-    EXPECT_EQ(s.q0.size(), s.model.nv());
+    EXPECT_EQ(s.q0.size(), s.model.nq());
+    EXPECT_EQ(s.model.nq(), s.model.nv() + (name == "fast_spin"));  // the quaternion base
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
     EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled
@@ -360,6 +361,26 @@ TEST(Scenario, FreeRigidBody) {
   EXPECT_NEAR(gap(t, 0, t.q0), 0.0, 1e-15);
 }
 
+// A quaternion base: the orientation from yaw, pitch and roll (at pitch π/2, where the Euler base
+// is singular), or as a quaternion; velocities in body axes.
+TEST(Scenario, QuaternionBaseInitialState) {
+  const Scene s = loadScene(kDataDir + "quaternion_free_body.yaml");
+  ASSERT_EQ(s.model.base, dynamics::BaseType::FreeQuaternion);
+  ASSERT_EQ(s.q0.size(), 7);
+  EXPECT_DOUBLE_EQ(s.q0[2], 1.5);
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Vector4d Q = s.q0.segment<4>(3);
+  EXPECT_NEAR(Q.norm(), 1.0, 1e-15);
+  EXPECT_LT((Eigen::Quaterniond(Q[0], Q[1], Q[2], Q[3]).toRotationMatrix() - R).norm(), 1e-14);
+  EXPECT_DOUBLE_EQ(s.v0[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.v0[5], 2.0);  // base_wz
+  // No orientation given: the identity.
+  const Scene spin = loadScene("fast_spin");
+  EXPECT_EQ(spin.q0.segment<4>(3), Eigen::Vector4d(1, 0, 0, 0));
+  EXPECT_EQ(spin.model.position_name[3], "base_qw");
+}
 TEST(Scenario, JointLimitStopsAndInput) {
   const Scene s = loadScene(kDataDir + "limits.yaml");
   ASSERT_EQ(s.limits.size(), 4u);
@@ -413,7 +434,7 @@ TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
   const std::string what = errorOf([] { loadScene("ball_dorp"); });
   EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
   EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
-  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, fast_spin, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
 }
 
 TEST(Scenario, MissingFile) {
@@ -557,10 +578,20 @@ TEST(ScenarioErrors, BadInertia) {
   expectError("bad_inertia.yaml", "model.rigid_body.inertia", {"triangle inequality"});
 }
 TEST(ScenarioErrors, UnknownBase) {
-  expectError("unknown_base.yaml", "base", {"floating", "fixed", "planar", "free"});
+  expectError("unknown_base.yaml", "base", {"floating", "fixed", "planar", "free", "free_quaternion"});
 }
 TEST(ScenarioErrors, TwoModels) {
   expectError("two_models.yaml", "model.point_mass", {"exactly one of: urdf, point_mass, point_masses, rigid_body"});
+}
+
+TEST(ScenarioErrors, QuaternionAndEulerAnglesBoth) {
+  expectError("quaternion_and_euler.yaml", "initial.q", {"either as a quaternion", "not both"});
+}
+TEST(ScenarioErrors, QuaternionNotOfUnitLength) {
+  expectError("quaternion_not_unit.yaml", "initial.q", {"must have unit length", "0.948683"});
+}
+TEST(ScenarioErrors, QuaternionBaseVelocityNameInPositions) {
+  expectError("quaternion_unknown_coordinate.yaml", "initial.q.base_wx", {"unknown coordinate 'base_wx'", "base_qw"});
 }
 
 }  // namespace

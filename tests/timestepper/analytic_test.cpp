@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "scene/scenario.hpp"
 #include "timestepper/stepper.hpp"
 
@@ -280,6 +282,62 @@ TEST(Analytic, StepperOnTheRockingBlock) {
   EXPECT_EQ(impacts, 6);
   const double first_tilt = rockingTilt(b, h, rockingImpactRatio(b, h) * rockingReturnSpeed(b, h, theta0, g), g);
   EXPECT_NEAR(rockingFirstTilt(theta), first_tilt, 1e-3 * first_tilt);
+}
+
+// Landau and Lifshitz's flip times against a hand evaluation: λ = √12.0001, k' = √(8.33e-6),
+// K ≈ ln(4/k') for k → 1 (Abramowitz and Stegun 17.3.26).
+TEST(Analytic, SpinFlipTimes) {
+  const std::vector<double> t = spinFlipTimes(0.1, 0.2, 0.3, 6.0, 0.01, 10.0);
+  ASSERT_EQ(t.size(), 2u);
+  const double lambda = std::sqrt(0.1 * 0.720006 / 0.006), kp = std::sqrt(1 - 0.72 / 0.720006);
+  EXPECT_NEAR(t[0], std::log(4 / kp) / lambda, 1e-5);
+  EXPECT_NEAR(t[1], 3 * t[0], 1e-12);
+}
+
+// The stepper on fast_spin (a quaternion base, no contact): the body flips at Landau and
+// Lifshitz's times, energy and the world angular momentum hold to the integrator's order (θ = ½:
+// second; θ = 1: first), and the quaternion stays unit, over ten seconds of tumbling through
+// every attitude (the Euler-angle base stops at pitch ±π/2).
+TEST(Analytic, StepperOnTheFastSpin) {
+  const Scene scene = scene::loadScene("fast_spin", {});
+  ASSERT_EQ(scene.model.base, dynamics::BaseType::FreeQuaternion);
+  const Eigen::Vector3d I(0.1, 0.2, 0.3);
+  const double w2 = scene.parameters.at("spin"), w3 = scene.parameters.at("wobble");
+  const std::vector<double> flips = spinFlipTimes(I[0], I[1], I[2], w2, w3, scene.duration);
+  ASSERT_EQ(flips.size(), 2u);
+  auto momentum = [&](const TimeStepper& sim) -> Eigen::Vector3d {
+    const Eigen::Vector4d Q = sim.q().segment<4>(3);
+    return Eigen::Quaterniond(Q[0], Q[1], Q[2], Q[3]).toRotationMatrix() * I.cwiseProduct(sim.v().segment<3>(3));
+  };
+  for (double theta : {0.5, 1.0}) {
+    double drift[2] = {0, 0};
+    for (int refine = 0; refine < 2; ++refine) {
+      SCOPED_TRACE("theta " + std::to_string(theta) + " refine " + std::to_string(refine));
+      StepperOptions o;
+      o.dt = 1e-3 / (1 << refine);
+      o.theta = theta;
+      TimeStepper sim(scene, o);
+      const double E0 = sim.energy();
+      const Eigen::Vector3d L0 = momentum(sim);
+      std::vector<double> seen;
+      double largest_L = 0, largest_norm = 0;
+      while (sim.time() < scene.duration - 1e-12) {
+        const double before = sim.v()[4];
+        sim.step();
+        if (before * sim.v()[4] < 0) seen.push_back(sim.time());
+        drift[refine] = std::max(drift[refine], std::abs(sim.energy() - E0));
+        largest_L = std::max(largest_L, (momentum(sim) - L0).norm());
+        largest_norm = std::max(largest_norm, std::abs(sim.q().segment<4>(3).norm() - 1));
+      }
+      ASSERT_EQ(seen.size(), flips.size());
+      for (std::size_t i = 0; i < flips.size(); ++i) EXPECT_NEAR(seen[i], flips[i], theta == 0.5 ? 2e-3 : 5e-3);
+      EXPECT_LT(drift[refine] / E0, theta == 0.5 ? 1e-5 : 2e-2);
+      EXPECT_LT(largest_L / L0.norm(), theta == 0.5 ? 1e-5 : 1e-2);
+      EXPECT_LT(largest_norm, 1e-14);
+    }
+    const double order = std::log2(drift[0] / drift[1]);
+    EXPECT_NEAR(order, theta == 0.5 ? 2.0 : 1.0, 0.25) << "theta " << theta;
+  }
 }
 
 }  // namespace

@@ -275,11 +275,15 @@ namespace saltus::timestepper {
 namespace {
 
 // After the first step, stepping allocates nothing: every scene with contacts, friction, a belt
-// and penetration handling, for both solvers.
+// and penetration handling, and every built-in scene (redundant and simultaneous contacts, a
+// chain on its stops, a quaternion base), for both solvers.
 TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
   std::vector<Scene> scenes = {testing::ballDrop(0.3, 0.5), testing::blockSlide(0.2, 1.0, 0.3),
                                testing::pendulumConveyor(2.0, 0.5, 0.01), testing::painleveRod(2.0, std::atan(2.0), 1.0),
                                testing::particle3d(Eigen::Vector2d(1.0, 0.5), 0.4, 8)};
+  for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart"})
+    scenes.push_back(scene::loadScene(name));
+  scenes.push_back(scene::loadScene("box_on_corners", {{"drop", 0.05}}));
   for (const Scene& scene : scenes) {
     for (LcpMethod solver : {LcpMethod::Lemke, LcpMethod::Pgs}) {
       TimeStepper sim(scene, options(1e-3, 0.5, solver));
