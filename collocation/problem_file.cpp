@@ -578,6 +578,10 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
 
   Problem problem;
   problem.scene = scene::readScene(reader, root, kProblemKeys);
+  if (problem.scene.model.base == dynamics::BaseType::FreeQuaternion)  // derivatives are taken along coordinates
+    reader.fail(root["base"], "base",
+                "the optimiser takes derivatives along coordinates, which a quaternion base's orientation has "
+                "not: use base: free (Euler angles; keep pitch away from ±π/2) in a problem file");
   problem.scene.source = source;
   problem.name = problem.scene.name;
   problem.description = problem.scene.description;

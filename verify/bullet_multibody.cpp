@@ -28,6 +28,8 @@
 // yaw, pitch, roll) through massless links with P = 1, c = 0 at the body origin.
 #include "verify/bullet_multibody.hpp"
 
+#include "dynamics/configuration.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -89,11 +91,26 @@ Eigen::Vector3d eulerRateBias(const Eigen::Vector3d& eta, const Eigen::Vector3d&
 
 }  // namespace
 
+// The free base's rotation R (root body in world) and world angular velocity ω from (q, v): Euler
+// angles and their rates (ω = E(η) η̇), or a quaternion and ω_B (ω = R ω_B).
+Eigen::Matrix3d BulletMultiBody::baseRotation(const Eigen::VectorXd& q) const {
+  if (quaternion_) return dynamics::quaternionToRotation(q.segment<4>(3).normalized());
+  return rotZ(q[3]) * rotY(q[4]) * rotX(q[5]);
+}
+Eigen::Vector3d BulletMultiBody::baseOmegaWorld(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
+  if (quaternion_) return baseRotation(q) * v.segment<3>(3);
+  return eulerRateMatrix(q.segment<3>(3)) * v.segment<3>(3);
+}
+
 BulletMultiBody::BulletMultiBody(const dynamics::Model<double>& model, FreeBase free_base)
     : model_(model) {
   const int nb = model_.nbodies();
-  native_free_ = model_.base == BaseType::Free && free_base == FreeBase::Native;
-  if (native_free_ && (nb < 1 || model_.joint_type[0] != JointType::Free))
+  quaternion_ = model_.base == BaseType::FreeQuaternion;
+  if (quaternion_ && free_base == FreeBase::VirtualLinks)
+    throw std::invalid_argument("BulletMultiBody: a quaternion base has no chain of one-coordinate joints; "
+                                "it is Bullet's floating base (FreeBase::Native)");
+  native_free_ = (model_.base == BaseType::Free && free_base == FreeBase::Native) || quaternion_;
+  if (native_free_ && (nb < 1 || (model_.joint_type[0] != JointType::Free && model_.joint_type[0] != JointType::FreeQuaternion)))
     throw std::invalid_argument("BulletMultiBody: a free base must be body 0's free joint");
 
   // Centres of mass and principal frames.
@@ -204,12 +221,13 @@ BulletMultiBody::~BulletMultiBody() = default;
 int BulletMultiBody::numLinks() const { return mb_->getNumLinks(); }
 
 void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  const int n = model_.nv();
-  if (q.size() != n || v.size() != n)
-    throw std::invalid_argument("BulletMultiBody: q and v must have " + std::to_string(n) + " entries");
+  const int n = model_.nv(), nq = model_.nq();
+  if (q.size() != nq || v.size() != n)
+    throw std::invalid_argument("BulletMultiBody: q and v must have " + std::to_string(nq) + " and " +
+                                std::to_string(n) + " entries");
   for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
     const int j = links_[k].coordinate;
-    mb_->setJointPos(k, q[j]);
+    mb_->setJointPos(k, q[model_.positionOf(j)]);
     mb_->setJointVel(k, v[j]);
   }
   if (!native_free_) return;
@@ -217,10 +235,8 @@ void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& 
   // Free base: pose and twist of the root body (saltus body 0, coordinates 0..5).
   const int r = 0;
   const Eigen::Vector3d p = q.head<3>(), pd = v.head<3>();
-  const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
-  const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);  // root body in world
-  const Eigen::Matrix3d E = eulerRateMatrix(eta);
-  const Eigen::Vector3d w = E * etad;
+  const Eigen::Matrix3d R = baseRotation(q);  // root body in world
+  const Eigen::Vector3d w = baseOmegaWorld(q, v);
   const Eigen::Vector3d c_world = R * c_[r];  // com relative to the root origin, world axes
   mb_->setBasePos(toBt(p + c_world));
   mb_->setWorldToBaseRot(toBtQuat((R * P_[r]).transpose()));
@@ -229,12 +245,12 @@ void BulletMultiBody::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& 
 }
 
 void BulletMultiBody::getState(Eigen::VectorXd& q, Eigen::VectorXd& v, const Eigen::VectorXd* q_hint) const {
-  const int n = model_.nv();
-  q.resize(n);
+  const int n = model_.nv(), nq = model_.nq();
+  q.resize(nq);
   v.resize(n);
   for (int k = 0; k < static_cast<int>(links_.size()); ++k) {
     const int j = links_[k].coordinate;
-    q[j] = mb_->getJointPos(k);
+    q[model_.positionOf(j)] = mb_->getJointPos(k);
     v[j] = mb_->getJointVel(k);
   }
   if (!native_free_) return;
@@ -243,6 +259,17 @@ void BulletMultiBody::getState(Eigen::VectorXd& q, Eigen::VectorXd& v, const Eig
   const btQuaternion qb = mb_->getWorldToBaseRot();
   const Eigen::Matrix3d RP_T = Eigen::Quaterniond(qb.w(), qb.x(), qb.y(), qb.z()).toRotationMatrix();
   const Eigen::Matrix3d R = RP_T.transpose() * P_[r].transpose();
+  if (quaternion_) {  // the sign of the hint's quaternion, so that a trajectory's quaternion is continuous
+    dynamics::QuaternionWxyz Q = dynamics::rotationToQuaternion(R);
+    if (q_hint && q_hint->size() == nq && Q.dot(q_hint->segment<4>(3)) < 0) Q = -Q;
+    const Eigen::Vector3d c_world = R * c_[r];
+    const Eigen::Vector3d w = toEigen(mb_->getBaseOmega());
+    q.head<3>() = toEigen(mb_->getBasePos()) - c_world;
+    q.segment<4>(3) = Q;
+    v.head<3>() = toEigen(mb_->getBaseVel()) - w.cross(c_world);
+    v.segment<3>(3) = R.transpose() * w;
+    return;
+  }
   // R = Rz(ψ) Ry(θ) Rx(φ): R(2,0) = −sin θ, R(1,0)/R(0,0) = tan ψ, R(2,1)/R(2,2) = tan φ.
   Eigen::Vector3d eta(std::atan2(R(1, 0), R(0, 0)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)),
                       std::atan2(R(2, 1), R(2, 2)));
@@ -264,9 +291,10 @@ void BulletMultiBody::setGeneralisedForces(const Eigen::VectorXd& q, const Eigen
 }
 
 void BulletMultiBody::applyForces(const Eigen::VectorXd& q, const Eigen::VectorXd& tau, bool gravity) {
-  const int n = model_.nv();
-  if (q.size() != n || tau.size() != n)
-    throw std::invalid_argument("BulletMultiBody: q and tau must have " + std::to_string(n) + " entries");
+  const int n = model_.nv(), nq = model_.nq();
+  if (q.size() != nq || tau.size() != n)
+    throw std::invalid_argument("BulletMultiBody: q and tau must have " + std::to_string(nq) + " and " +
+                                std::to_string(n) + " entries");
   mb_->clearForcesAndTorques();
   mb_->clearConstraintForces();
   const Eigen::Vector3d g = model_.gravity;
@@ -277,15 +305,16 @@ void BulletMultiBody::applyForces(const Eigen::VectorXd& q, const Eigen::VectorX
   }
   if (!native_free_) return;
   const int r = 0;
-  const Eigen::Vector3d eta = q.segment<3>(3);
-  const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);
-  const Eigen::Matrix3d E = eulerRateMatrix(eta);
+  const Eigen::Matrix3d R = baseRotation(q);
   const Eigen::Vector3d c_world = R * c_[r];
   // Generalised forces of the base: by virtual power, τ_xyz·ṗ + τ_η·η̇ = f·ṗ + n_O·ω, so the
-  // force is f = τ_xyz and the moment about the root origin is n_O = E⁻ᵀ τ_η; Bullet applies
-  // base forces at the com, so the torque about the com is n_O − (R c) × f.
+  // force is f = τ_xyz and the moment about the root origin is n_O = E⁻ᵀ τ_η (Euler angles) or
+  // R τ_ω (a quaternion base, whose τ_ω is dual to ω_B); Bullet applies base forces at the com, so
+  // the torque about the com is n_O − (R c) × f.
   const Eigen::Vector3d f = tau.head<3>();
-  const Eigen::Vector3d n_O = E.transpose().lu().solve(Eigen::Vector3d(tau.segment<3>(3)));
+  const Eigen::Vector3d n_O = quaternion_ ? Eigen::Vector3d(R * tau.segment<3>(3))
+                                          : Eigen::Vector3d(eulerRateMatrix(q.segment<3>(3)).transpose().lu().solve(
+                                                Eigen::Vector3d(tau.segment<3>(3))));
   mb_->addBaseForce(toBt(f + (gravity ? Eigen::Vector3d(m_[r] * g) : Eigen::Vector3d::Zero())));
   mb_->addBaseTorque(toBt(n_O - c_world.cross(f)));
 }
@@ -316,21 +345,25 @@ Eigen::VectorXd BulletMultiBody::forwardDynamics(const Eigen::VectorXd& q, const
   const btScalar* out = &scratch_r[ndof];
 
   const int n = model_.nv();
+  if (q.size() != model_.nq() || v.size() != n || tau.size() != n)
+    throw std::invalid_argument("BulletMultiBody::forwardDynamics: q, v, tau of the wrong sizes");
   Eigen::VectorXd qdd(n);
   for (int k = 0; k < static_cast<int>(links_.size()); ++k) qdd[links_[k].coordinate] = out[6 + k];
   if (native_free_) {
     const int r = 0;
-    const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
-    const Eigen::Matrix3d R = rotZ(eta[0]) * rotY(eta[1]) * rotX(eta[2]);
-    const Eigen::Matrix3d E = eulerRateMatrix(eta);
-    const Eigen::Vector3d w = E * etad;
+    const Eigen::Matrix3d R = baseRotation(q);
+    const Eigen::Vector3d w = baseOmegaWorld(q, v);
     const Eigen::Vector3d c_world = R * c_[r];
     const Eigen::Vector3d wd(out[0], out[1], out[2]);
     const Eigen::Vector3d a_com(out[3], out[4], out[5]);
     // Root origin O = com − R c: p̈ = a_com − ω̇ × Rc − ω × (ω × Rc).
     qdd.head<3>() = a_com - wd.cross(c_world) - w.cross(w.cross(c_world));
-    // ω̇ = E η̈ + Ė η̇.
-    qdd.segment<3>(3) = E.lu().solve(wd - eulerRateBias(eta, etad));
+    if (quaternion_) {
+      qdd.segment<3>(3) = R.transpose() * wd;  // ω_B = Rᵀ ω: ω̇_B = Rᵀ ω̇ (the ω × ω term vanishes)
+    } else {
+      const Eigen::Vector3d eta = q.segment<3>(3), etad = v.segment<3>(3);
+      qdd.segment<3>(3) = eulerRateMatrix(eta).lu().solve(wd - eulerRateBias(eta, etad));  // ω̇ = E η̈ + Ė η̇
+    }
   }
   return qdd;
 }

@@ -6,6 +6,8 @@
 //    of mass with principal axes (Bullet wants a diagonal inertia about the com); the joint pivot
 //    is the saltus joint origin, the axis is rotated into the principal frame;
 //  - BaseType::Fixed: Bullet's fixed base is the world;
+//  - BaseType::FreeQuaternion: Bullet's floating base, its quaternion and ω_B (rotated to and
+//    from Bullet's world ω) taken as they are;
 //  - BaseType::Free, FreeBase::Native (default): the root body becomes Bullet's floating base;
 //    the Euler-coordinate state (x, y, z, yaw, pitch, roll) and its rates are converted to the
 //    base pose and twist, base generalised forces to a wrench, and Bullet's base accelerations
@@ -89,6 +91,9 @@ class BulletMultiBody {
 
   dynamics::Model<double> model_;
   bool native_free_ = false;
+  bool quaternion_ = false;  // BaseType::FreeQuaternion (always native)
+  Eigen::Matrix3d baseRotation(const Eigen::VectorXd& q) const;
+  Eigen::Vector3d baseOmegaWorld(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const;
   std::vector<LinkSpec> links_;        // Bullet link k
   std::vector<int> last_link_of_body_;  // per saltus body: its (last) Bullet link; −1 for Bullet's base
   std::vector<Eigen::Matrix3d> P_;  // principal axes of each body, in body coordinates

@@ -10,6 +10,8 @@
 // rows (two directions from btPlaneSpace1 of the normal) and without post-stabilisation.
 #include "verify/bullet_world.hpp"
 
+#include "dynamics/configuration.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -297,7 +299,7 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
   }
 
   reports_.assign(scene_.contacts.size(), BulletContactReport{});
-  q_ = scene_.q0.size() == n ? scene_.q0 : Eigen::VectorXd::Zero(n);
+  q_ = scene_.q0.size() == model.nq() ? scene_.q0 : dynamics::neutralConfiguration(model);
   v_ = scene_.v0.size() == n ? scene_.v0 : Eigen::VectorXd::Zero(n);
   reset(q_, v_, 0);
 }
@@ -312,9 +314,10 @@ BulletWorld::~BulletWorld() {
 }
 
 void BulletWorld::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
-  const int n = scene_.model.nv();
-  if (q.size() != n || v.size() != n)
-    throw std::invalid_argument("BulletWorld::reset: q and v must have " + std::to_string(n) + " entries");
+  const int n = scene_.model.nv(), nq = scene_.model.nq();
+  if (q.size() != nq || v.size() != n)
+    throw std::invalid_argument("BulletWorld::reset: q and v must have " + std::to_string(nq) + " and " +
+                                std::to_string(n) + " entries");
   q_ = q;
   v_ = v;
   t_ = t;

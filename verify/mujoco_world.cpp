@@ -79,7 +79,8 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
   const std::string where = "MujocoWorld: scene " + scene.name + ": ";
   if (!(options.dt > 0) || !std::isfinite(options.dt)) throw std::invalid_argument(where + "dt must be positive");
   if (model.base == dynamics::BaseType::Free)
-    throw std::invalid_argument(where + "a free base (Euler angles in saltus, a quaternion in MuJoCo) is not built yet");
+    throw std::invalid_argument(where + "a free base of Euler angles has no MuJoCo joint; use base: free_quaternion "
+                                        "(MuJoCo's free joint: the same quaternion and velocities)");
   for (const scene::Surface& s : scene.surfaces)
     if (!s.velocity_schedule.empty())
       throw std::invalid_argument(where + "surface '" + s.name + "' moves (a belt); MuJoCo has no moving-plane contact");
@@ -122,6 +123,9 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
         joint(k0, "slide", Eigen::Vector3d::UnitX());
         joint(k0 + 1, "slide", Eigen::Vector3d::UnitZ());
         joint(k0 + 2, "hinge", Eigen::Vector3d::UnitY());
+        break;
+      case dynamics::JointType::FreeQuaternion:  // qpos (p, quaternion), qvel (ṗ world, ω body): saltus' own
+        xml << "<freejoint name=\"base\"/>";
         break;
       case dynamics::JointType::Free: break;  // refused above
     }
@@ -201,7 +205,16 @@ MujocoWorld::MujocoWorld(const scene::Scene& scene, MujocoWorldOptions options)
   if (!m_) throw std::runtime_error(where + "MuJoCo refused the model: " + error);
   d_ = mj_makeData(m_);
 
+  // Saltus' position and velocity coordinates in qpos and qvel: one each per hinge or slide, seven
+  // and six for the free joint (in saltus' order).
   for (int k = 0; k < model.nv(); ++k) {
+    if (model.base == dynamics::BaseType::FreeQuaternion && k < 6) {
+      const int j = mj_name2id(m_, mjOBJ_JOINT, "base");
+      if (k == 0)
+        for (int c = 0; c < 7; ++c) qpos_address_.push_back(m_->jnt_qposadr[j] + c);
+      dof_address_.push_back(m_->jnt_dofadr[j] + k);
+      continue;
+    }
     const int j = mj_name2id(m_, mjOBJ_JOINT, model.coordinate_name[k].c_str());
     qpos_address_.push_back(m_->jnt_qposadr[j]);
     dof_address_.push_back(m_->jnt_dofadr[j]);
@@ -224,13 +237,11 @@ MujocoWorld::~MujocoWorld() {
 }
 
 void MujocoWorld::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, double t) {
-  const int n = scene_.model.nv();
-  if (q.size() != n || v.size() != n) throw std::invalid_argument("MujocoWorld::reset: state of the wrong size");
+  const int n = scene_.model.nv(), nq = scene_.model.nq();
+  if (q.size() != nq || v.size() != n) throw std::invalid_argument("MujocoWorld::reset: state of the wrong size");
   mj_resetData(m_, d_);
-  for (int k = 0; k < n; ++k) {
-    d_->qpos[qpos_address_[k]] = q[k];
-    d_->qvel[dof_address_[k]] = v[k];
-  }
+  for (int k = 0; k < nq; ++k) d_->qpos[qpos_address_[k]] = q[k];
+  for (int k = 0; k < n; ++k) d_->qvel[dof_address_[k]] = v[k];
   d_->time = t;
   mj_forward(m_, d_);
   q_ = q;
@@ -267,10 +278,8 @@ void MujocoWorld::step(const Eigen::VectorXd& tau) {
 }
 
 void MujocoWorld::readState() {
-  for (int k = 0; k < scene_.model.nv(); ++k) {
-    q_[k] = d_->qpos[qpos_address_[k]];
-    v_[k] = d_->qvel[dof_address_[k]];
-  }
+  for (int k = 0; k < scene_.model.nq(); ++k) q_[k] = d_->qpos[qpos_address_[k]];
+  for (int k = 0; k < scene_.model.nv(); ++k) v_[k] = d_->qvel[dof_address_[k]];
 }
 
 // Gaps and velocities from saltus' kinematics of (q, v); impulses from MuJoCo's contacts.

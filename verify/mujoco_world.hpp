@@ -113,7 +113,7 @@ class MujocoWorld {
   std::string mjcf_;
   mjModel_* m_ = nullptr;
   mjData_* d_ = nullptr;
-  std::vector<int> qpos_address_, dof_address_;  // per saltus coordinate
+  std::vector<int> qpos_address_, dof_address_;  // per saltus position coordinate (qpos), velocity coordinate (qvel)
   std::vector<int> pair_geom_;                   // per scene contact: its sphere geom
   Eigen::VectorXd q_, v_;
   double t_ = 0;

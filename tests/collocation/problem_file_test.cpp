@@ -415,6 +415,9 @@ std::string expectError(const std::string& fixture, const std::string& key_path,
 TEST(ProblemFileErrors, UnknownKey) {
   expectError("unknown_key.yaml", "mesh.h_mx", {"unknown key 'h_mx'", "did you mean 'h_max'", "expected one of: N, P"});
 }
+TEST(ProblemFileErrors, QuaternionBaseIsRefused) {
+  expectError("quaternion_base.yaml", "base", {"quaternion base", "use base: free"});
+}
 TEST(ProblemFileErrors, UnknownTopLevelKey) {
   expectError("unknown_top_key.yaml", "constraint", {"unknown key 'constraint'", "did you mean 'constraints'"});
 }

@@ -83,7 +83,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_EQ(s.model.nv(), expected.at(name).first);
     EXPECT_EQ(static_cast<int>(s.contacts.size()), expected.at(name).second);
     EXPECT_EQ(s.q0.size(), s.model.nq());
-    EXPECT_EQ(s.model.nq(), s.model.nv() + (name == "fast_spin"));  // the quaternion base
+    EXPECT_EQ(s.model.nq(), s.model.nv() + (name == "fast_spin" || name == "box_on_corners"));  // quaternion bases
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
     EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "dynamics/configuration.hpp"
 #include "scene/scenario.hpp"
 #include "timestepper/stepper.hpp"
 
@@ -196,8 +197,8 @@ TEST(Analytic, StepperOnTheBoxOnFourCorners) {
       ASSERT_NEAR(sum, m * g * dt, 1e-12 * m * g) << "t = " << sim.time();
       ASSERT_LT(moment.norm(), 1e-12) << "t = " << sim.time();
     }
-    Eigen::VectorXd rest = Eigen::VectorXd::Zero(6);
-    rest[scene.model.coordinateIndex("base_z")] = scene.parameters.at("half_z");
+    Eigen::VectorXd rest = dynamics::neutralConfiguration(scene.model);
+    rest[scene.model.positionIndex("base_z")] = scene.parameters.at("half_z");
     EXPECT_LT((sim.q() - rest).lpNorm<Eigen::Infinity>(), 1e-12) << sim.q().transpose();
     EXPECT_LT(sim.v().lpNorm<Eigen::Infinity>(), 1e-12) << sim.v().transpose();
     EXPECT_EQ(sim.stats().lcp_failures, 0);

@@ -62,6 +62,11 @@ State randomState(std::mt19937& rng, const Model<double>& model) {
   for (int i = 0; i < n; ++i)
     if (model.isTranslation(i)) s.q[i] /= M_PI;
   if (model.base == BaseType::Free) s.q[4] = std::uniform_real_distribution<double>(-1.2, 1.2)(rng);
+  if (model.base == BaseType::FreeQuaternion) {  // any orientation: a random unit quaternion
+    Eigen::VectorXd q(model.nq());
+    q << s.q.head<3>(), uniform(rng, 4, -1, 1).normalized(), s.q.tail(n - 6);
+    s.q = q;
+  }
   return s;
 }
 
@@ -239,7 +244,7 @@ TEST(BulletDynamics, FreeBodyClosedForm) {
 // The mapping itself: Bullet's com positions equal saltus' at random configurations.
 
 TEST(BulletDynamics, ComPositionsAgree) {
-  for (BaseType base : {BaseType::Fixed, BaseType::Free}) {
+  for (BaseType base : {BaseType::Fixed, BaseType::Free, BaseType::FreeQuaternion}) {
     for (int k = 0; k < 5; ++k) {
       std::mt19937 rng(100 + k);
       const RandomUrdfRobot robot = randomUrdfRobot(rng, 6);
@@ -267,6 +272,10 @@ TEST(BulletDynamics, RandomUrdfFixedBase) {
 
 TEST(BulletDynamics, RandomUrdfFreeBaseNative) {
   randomRobots(BaseType::Free, FreeBase::Native, 2000, "free base (Bullet floating base)");
+}
+
+TEST(BulletDynamics, RandomUrdfQuaternionBase) {
+  randomRobots(BaseType::FreeQuaternion, FreeBase::Native, 2000, "quaternion base (Bullet floating base)");
 }
 
 TEST(BulletDynamics, RandomUrdfFreeBaseVirtualLinks) {

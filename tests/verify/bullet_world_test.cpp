@@ -404,6 +404,35 @@ TEST(BulletWorld, StateConversionRoundTrip) {
   EXPECT_NEAR(q2[3], 3.5, 1e-12);
 }
 
+// A quaternion base: Bullet's floating base takes the quaternion and ω_B as they are (a state
+// round trip at any orientation), and a quaternion read back keeps the sign of the hint.
+TEST(BulletWorld, QuaternionStateRoundTrip) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  dynamics::ModelBuilder b("free_body");
+  Eigen::Matrix3d Ic;
+  Ic << 0.3, 0.01, 0.02, 0.01, 0.2, -0.03, 0.02, -0.03, 0.4;
+  b.addLink("body", 2.0, Eigen::Vector3d(0.1, -0.2, 0.05), Ic);
+  const dynamics::Model<double> model = b.build(dynamics::BaseType::FreeQuaternion);
+  BulletMultiBody mb(model);
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd q(7), v(6);
+    for (int i = 0; i < 7; ++i) q[i] = u(rng);
+    for (int i = 0; i < 6; ++i) v[i] = 2 * u(rng);
+    q.segment<4>(3).normalize();
+    mb.setState(q, v);
+    Eigen::VectorXd q2, v2;
+    mb.getState(q2, v2, &q);
+    EXPECT_LT((q2 - q).lpNorm<Eigen::Infinity>(), 1e-12);
+    EXPECT_LT((v2 - v).lpNorm<Eigen::Infinity>(), 1e-12);
+    Eigen::VectorXd minus = q;
+    minus.segment<4>(3) *= -1;  // the same rotation
+    mb.getState(q2, v2, &minus);
+    EXPECT_LT((q2 - minus).lpNorm<Eigen::Infinity>(), 1e-12);
+  }
+  EXPECT_THROW(BulletMultiBody(model, FreeBase::VirtualLinks), std::invalid_argument);
+}
+
 TEST(BulletWorld, ReportsApproximationsAndRejectsFreeBaseLimits) {
   const scene::Scene ball = scene::loadScene("ball_drop");
   BulletWorld world(ball, worldOptions(1e-3));

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/scenario.hpp"
+#include "timestepper/analytic.hpp"
 
 namespace saltus::verify {
 namespace {
@@ -131,11 +132,46 @@ TEST(MujocoWorld, ScenesItCannotBuildAreRefusedByName) {
     EXPECT_NE(std::string(e.what()).find("moves (a belt)"), std::string::npos) << e.what();
   }
   try {
-    MujocoWorld world(scene::loadScene("box_on_corners", {}));
+    MujocoWorld world(scene::loadScene(SALTUS_SOURCE_DIR "/tests/data/scenes/free_rigid_body.yaml", {}));
     FAIL() << "built";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("a free base"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("use base: free_quaternion"), std::string::npos) << e.what();
   }
+}
+
+// A quaternion base is MuJoCo's free joint, state as it is: fast_spin flips at Landau and
+// Lifshitz's times (MuJoCo's semi-implicit Euler, dt 1e-3: within 10 ms), its quaternion stays
+// unit; the box on four corners rests flat, sunk by MuJoCo's soft contact by less than a
+// millimetre, and does not turn.
+TEST(MujocoWorld, AQuaternionBaseIsMujocosFreeJoint) {
+  const scene::Scene spin = scene::loadScene("fast_spin", {});
+  MujocoWorld world(spin, withDt(1e-3));
+  const std::vector<double> flips = timestepper::analytic::spinFlipTimes(0.1, 0.2, 0.3, 6.0, 0.01, spin.duration);
+  std::vector<double> seen;
+  const double E0 = 0.5 * (0.2 * 36 + 0.3 * 1e-4);
+  double largest_dE = 0;
+  while (world.time() < spin.duration - 1e-9) {
+    const double before = world.v()[4];
+    world.step();
+    ASSERT_EQ(world.q().size(), 7);
+    EXPECT_NEAR(world.q().segment<4>(3).norm(), 1.0, 1e-12);
+    if (before * world.v()[4] < 0) seen.push_back(world.time());
+    const Eigen::Vector3d w = world.v().segment<3>(3);
+    largest_dE = std::max(largest_dE, std::abs(0.5 * (0.1 * w[0] * w[0] + 0.2 * w[1] * w[1] + 0.3 * w[2] * w[2]) - E0));
+  }
+  ASSERT_EQ(seen.size(), flips.size());
+  for (std::size_t i = 0; i < flips.size(); ++i) EXPECT_NEAR(seen[i], flips[i], 1e-2);
+  EXPECT_LT(largest_dE / E0, 0.05);
+  std::printf("[ mujoco   ] fast_spin dt 1e-3: flips at %.4f, %.4f s (analytic %.4f, %.4f); largest |dE|/E0 %.2g\n", seen[0],
+              seen[1], flips[0], flips[1], largest_dE / E0);
+
+  const scene::Scene box = scene::loadScene("box_on_corners", {});
+  MujocoWorld resting(box, withDt(1e-3));
+  for (int k = 0; k < 1000; ++k) resting.step();
+  const double half_z = box.parameters.at("half_z");
+  EXPECT_NEAR(resting.q()[2], half_z, 1e-3);
+  EXPECT_LT((resting.q().segment<4>(3) - Eigen::Vector4d(1, 0, 0, 0)).norm(), 1e-6);
+  EXPECT_LT(resting.q().head<2>().norm(), 1e-6);
 }
 
 // A contact on a plane fixed in another body (a box on the plane's body): the touching cradle's
