@@ -12,6 +12,7 @@
 
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
+#include "dynamics/energy.hpp"
 #include "timestepper/analytic.hpp"
 #include "timestepper/sticking_motion.hpp"
 
@@ -304,6 +305,33 @@ ErrorModel makeErrorModel(const Scene& scene, const std::vector<double>& dts, do
                       formatNumber(analytic::slideAcceleration(m.mu, m.alpha, m.g), 8) + " m/s^2 (tan a >= mu)";
     return m;
   }
+  if (scene.contacts.empty() && scene.limits.empty() && scene.model.gravity.isZero(0) && scene.tau.isZero(0)) {
+    // No external force: energy and the world angular momentum about the origin are conserved
+    // (fast_spin; the body's flip times are checked against Landau and Lifshitz in the tests).
+    const auto model = std::make_shared<const dynamics::Model<double>>(scene.model);
+    const auto invariants = [model](const Eigen::VectorXd& x) {
+      dynamics::Data<double> data(*model);
+      const int nq = model->nq();
+      dynamics::forwardKinematics(*model, data, x.head(nq), x.tail(model->nv()));
+      Eigen::Vector4d out;
+      out[0] = dynamics::kineticEnergy(*model, data);
+      Eigen::Vector3d L = Eigen::Vector3d::Zero();
+      for (int i = 0; i < model->nbodies(); ++i) L += data.X_world[i].applyTranspose(model->inertia[i] * data.v[i]).n;
+      out.tail<3>() = L;
+      return out;
+    };
+    Eigen::VectorXd x0(scene.q0.size() + scene.v0.size());
+    x0 << scene.q0, scene.v0;
+    const Eigen::Vector4d start = invariants(x0);
+    m.kind = ErrorModel::Invariants;
+    m.drift = [invariants, start](const Eigen::VectorXd& x) {
+      const Eigen::Vector4d end = invariants(x);
+      return std::abs(end[0] - start[0]) / start[0] + (end.tail<3>() - start.tail<3>()).norm() / start.tail<3>().norm();
+    };
+    m.description = "|E(T) - E(0)| / E(0) + |L(T) - L(0)| / |L(0)|: the relative drift of the kinetic energy and of "
+                    "the world angular momentum, both conserved with no gravity, contact or input";
+    return m;
+  }
   double t_end = duration;  // the latest end time of the runs
   for (double dt : dts) t_end = std::max(t_end, stepCount(duration, dt) * dt);
   std::string no_exact;  // why a scene with an exact motion falls back to the reference run
@@ -336,6 +364,8 @@ double runError(const ErrorModel& m, const RecordedRun& r) {
       return std::abs(r.x_end[m.s_index] - analytic::slidePosition(m.v0, m.mu, m.alpha, m.g, r.t_end));
     case ErrorModel::Exact:
       return (r.x_end - m.exact(r.t_end)).norm();
+    case ErrorModel::Invariants:
+      return m.drift(r.x_end);
     case ErrorModel::Reference:
       return (r.x_end - referenceAt(m, r.t_end)).norm();
   }

@@ -58,7 +58,7 @@ double parameter(const Scene& scene, const std::string& name);
 //  - Reference (any other scene, or those two outside the sticking assumption): |[q; v](T) −
 //    x_ref(T)| against a saltus run at dt_min/16 with θ = ½.
 struct ErrorModel {
-  enum Kind { BallApex, RockingTilt, Slide, Velocities, Exact, Reference } kind = Reference;
+  enum Kind { BallApex, RockingTilt, Slide, Velocities, Exact, Invariants, Reference } kind = Reference;
   std::string description;
   int tracked = -1;  // the coordinate a run records after every step (BallApex, RockingTilt), −1: none
   // BallApex: the apex height; RockingTilt: the tilt
@@ -70,6 +70,8 @@ struct ErrorModel {
   Eigen::VectorXd v_exact;
   // Exact: [q; v] at time t
   std::function<Eigen::VectorXd(double)> exact;
+  // Invariants: the drift of conserved quantities at the end state [q; v]
+  std::function<double(const Eigen::VectorXd&)> drift;
   // Reference: states [q; v] at times t_ref[i]
   std::vector<double> t_ref;
   std::vector<Eigen::VectorXd> x_ref;
