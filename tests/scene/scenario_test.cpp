@@ -63,7 +63,7 @@ Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Ei
 TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners",
-                                      "chain_on_stops", "fast_spin", "newtons_cradle", "painleve_rod",
+                                      "chain_on_stops", "fast_spin", "hyq_drop", "newtons_cradle", "painleve_rod",
                                       "pendulum_conveyor", "rocking_block"}));
 }
 
@@ -72,7 +72,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
       {"ball_drop", {1, 1}},         {"block_slide", {2, 1}},   {"pendulum_conveyor", {2, 1}},
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
       {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
-      {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}}};
+      {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}},     {"hyq_drop", {18, 4}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -83,11 +83,11 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_EQ(s.model.nv(), expected.at(name).first);
     EXPECT_EQ(static_cast<int>(s.contacts.size()), expected.at(name).second);
     EXPECT_EQ(s.q0.size(), s.model.nq());
-    EXPECT_EQ(s.model.nq(), s.model.nv() + (name == "fast_spin" || name == "box_on_corners"));  // quaternion bases
+    EXPECT_EQ(s.model.nq(), s.model.nv() + (name == "fast_spin" || name == "box_on_corners" || name == "hyq_drop"));  // quaternion bases
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
     EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled
-    EXPECT_EQ(s.limits.size(), name == "chain_on_stops" ? 18u : 0u);  // nine limited joints, two stops each
+    EXPECT_EQ(s.limits.size(), name == "chain_on_stops" ? 18u : name == "hyq_drop" ? 24u : 0u);  // two stops per limited joint
     EXPECT_GT(s.duration, 0);
     EXPECT_FALSE(s.model.visuals.empty());
     for (const Surface& surf : s.surfaces) EXPECT_NEAR(surf.normal.norm(), 1.0, 1e-15);
@@ -434,7 +434,7 @@ TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
   const std::string what = errorOf([] { loadScene("ball_dorp"); });
   EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
   EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
-  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, fast_spin, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, fast_spin, hyq_drop, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
 }
 
 TEST(Scenario, MissingFile) {

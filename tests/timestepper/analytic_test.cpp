@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "dynamics/configuration.hpp"
+#include "dynamics/kinematics.hpp"
 #include "scene/scenario.hpp"
 #include "timestepper/stepper.hpp"
 
@@ -283,6 +284,47 @@ TEST(Analytic, StepperOnTheRockingBlock) {
   EXPECT_EQ(impacts, 6);
   const double first_tilt = rockingTilt(b, h, rockingImpactRatio(b, h) * rockingReturnSpeed(b, h, theta0, g), g);
   EXPECT_NEAR(rockingFirstTilt(theta), first_tilt, 1e-3 * first_tilt);
+}
+
+// hyq_drop (a quaternion base, 12 joints, 4 feet with friction, 24 stops; θ = 1, dt 1e-3): the
+// feet land together and the legs fold onto their knee stops; no foot and no stop is passed
+// (measured before the projection: feet 1.6e-6 m, stops 0; with θ = ½, 2.7e-4 m and 8.5e-4 rad),
+// the mechanical energy never rises above its start, no LCP fails, and by 1 s the robot is still
+// on its feet where they landed.
+TEST(Analytic, StepperOnTheHyqDrop) {
+  const Scene scene = scene::loadScene("hyq_drop", {});
+  ASSERT_EQ(scene.model.nq(), 19);
+  ASSERT_EQ(scene.limits.size(), 24u);
+  StepperOptions o;
+  o.dt = 1e-3;
+  o.theta = 1.0;
+  TimeStepper sim(scene, o);
+  const double E0 = sim.energy();
+  std::vector<Eigen::Vector2d> landed(4, Eigen::Vector2d::Constant(std::nan("")));
+  dynamics::Data<double> data(scene.model);
+  double largest_E = E0;
+  while (sim.time() < scene.duration - 1e-12) {
+    sim.step();
+    largest_E = std::max(largest_E, sim.energy());
+    dynamics::forwardKinematics(scene.model, data, sim.q());
+    for (int c = 0; c < 4; ++c) {
+      ASSERT_GT(sim.contacts()[c].gap, -o.penetration_tolerance) << "t = " << sim.time();
+      const Eigen::Vector3d foot = dynamics::pointPosition(data, scene.contacts[c].body, scene.contacts[c].p_B);
+      if (std::isnan(landed[c][0]) && sim.contacts()[c].active) landed[c] = foot.head<2>();
+    }
+  }
+  EXPECT_EQ(sim.stats().lcp_failures, 0);
+  EXPECT_LT(sim.stats().max_penetration, 1e-5);
+  EXPECT_LT(sim.stats().max_stop_penetration, 1e-6);
+  EXPECT_LT(largest_E - E0, 1e-9 * E0);
+  EXPECT_LT(sim.energy(), E0 - 100);  // the fall's energy lost in the impacts and the folding
+  for (const char* knee : {"lf_kfe_joint", "rf_kfe_joint", "lh_kfe_joint", "rh_kfe_joint"})
+    EXPECT_NEAR(std::abs(sim.q()[scene.model.positionIndex(knee)]), 2.44346095279, 1e-3) << knee;
+  EXPECT_LT(sim.v().lpNorm<Eigen::Infinity>(), 0.2);
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector3d foot = dynamics::pointPosition(data, scene.contacts[c].body, scene.contacts[c].p_B);
+    EXPECT_LT((foot.head<2>() - landed[c]).norm(), 1e-2) << scene.contacts[c].name;
+  }
 }
 
 // Landau and Lifshitz's flip times against a hand evaluation: λ = √12.0001, k' = √(8.33e-6),

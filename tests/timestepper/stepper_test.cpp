@@ -281,11 +281,12 @@ TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
   std::vector<Scene> scenes = {testing::ballDrop(0.3, 0.5), testing::blockSlide(0.2, 1.0, 0.3),
                                testing::pendulumConveyor(2.0, 0.5, 0.01), testing::painleveRod(2.0, std::atan(2.0), 1.0),
                                testing::particle3d(Eigen::Vector2d(1.0, 0.5), 0.4, 8)};
-  for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart"})
+  for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart", "hyq_drop"})
     scenes.push_back(scene::loadScene(name));
   scenes.push_back(scene::loadScene("box_on_corners", {{"drop", 0.05}}));
   for (const Scene& scene : scenes) {
     for (LcpMethod solver : {LcpMethod::Lemke, LcpMethod::Pgs}) {
+      if (solver == LcpMethod::Pgs && scene.name == "hyq_drop") continue;  // PGS fails there (below)
       TimeStepper sim(scene, options(1e-3, 0.5, solver));
       sim.step();
       const long before = saltus::testing::heapAllocations();
@@ -371,6 +372,24 @@ namespace {
 // scheme (θ = ½) integrates a piecewise-constant force exactly: with τ_k on step k,
 // v_{k+1} = v_k + h (τ_k / m − g) and z_{k+1} = z_k + h (v_k + v_{k+1}) / 2. Setting the input
 // allocates nothing; a wrong size or a non-finite value is refused.
+// PGS on HyQ's landing (4 feet with 4 friction directions each and a knee stop: 25 rows) does
+// not converge in its 500 iterations; the step fails with the solver's status and residual
+// instead of passing an unconverged impulse on (Lemke solves every step of it).
+TEST(Stepper, PgsFailureOnHyqIsReportedWithItsStatus) {
+  const Scene scene = scene::loadScene("hyq_drop");
+  TimeStepper sim(scene, options(1e-3, 0.5, LcpMethod::Pgs));
+  try {
+    while (sim.time() < scene.duration) sim.step();
+    FAIL() << "PGS converged on every step";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("LCP solver (pgs) failed"), std::string::npos) << what;
+    EXPECT_NE(what.find("residual"), std::string::npos) << what;
+    EXPECT_GT(e.residual, 1e-6);
+  }
+  EXPECT_EQ(sim.stats().lcp_failures, 1);
+}
+
 TEST(Stepper, SetInputDrivesAFreePointMassExactly) {
   const double h = 1e-3, m = 1.0;
   TimeStepper sim(testing::ballDrop(1.0, 0.0), options(h, 0.5));
