@@ -40,7 +40,13 @@ struct Evaluation {
 Evaluation evaluate(const Model<double>& model, const InspectOptions& opt) {
   const auto& names = model.coordinate_name;
   Evaluation e;
-  e.q = parseCoordinateVector("--q", *opt.q, names);
+  e.q = parseCoordinateVector("--q", *opt.q, model.position_name);  // a quaternion base: 4 values for its orientation
+  if (model.base == dynamics::BaseType::FreeQuaternion) {
+    const double norm = e.q.segment<4>(3).norm();
+    if (!(std::abs(norm - 1.0) <= 1e-6))
+      throw std::invalid_argument("--q: the base quaternion (base_qw, base_qx, base_qy, base_qz) must have unit length, got " +
+                                  std::to_string(norm));
+  }
   e.v = opt.v ? parseCoordinateVector("--v", *opt.v, names) : Eigen::VectorXd::Zero(model.nv());
   if (opt.a) e.a = parseCoordinateVector("--a", *opt.a, names);
   if (opt.tau) e.tau_in = parseCoordinateVector("--tau", *opt.tau, names);
@@ -85,6 +91,7 @@ Json describeJson(const Model<double>& model, const std::optional<Evaluation>& e
   j["base"] = dynamics::toString(model.base);
   j["nq"] = model.nq();
   j["coordinates"] = model.coordinate_name;
+  j["positions"] = model.position_name;
   Json bodies = Json::array(), limits = Json::array();
   for (int i = 0; i < model.nbodies(); ++i) {
     const auto first = model.coordinate_name.begin() + model.first_coordinate[i];
@@ -214,7 +221,7 @@ Command addInspectCommand(CLI::App& saltus) {
   const auto vector_option = [&](const std::string& name, std::optional<std::string>& target, const std::string& what) {
     app->add_option_function<std::string>(name, [&target](const std::string& s) { target = s; }, what);
   };
-  vector_option("--q", opt->q, "Coordinates, comma-separated in the model's coordinate order (enables M and h)");
+  vector_option("--q", opt->q, "Position coordinates, comma-separated in the model's order (enables M and h; a quaternion base takes base_qw, base_qx, base_qy, base_qz)");
   vector_option("--v", opt->v, "Velocities (default: zero)");
   vector_option("--a", opt->a, "Accelerations: adds tau = M a + h (inverse dynamics)");
   vector_option("--tau", opt->tau, "Joint forces: adds qdd with M qdd + h = tau (forward dynamics)");

@@ -42,7 +42,8 @@ dynamics::BaseType parseBase(const std::string& base) {
   if (base == "fixed") return dynamics::BaseType::Fixed;
   if (base == "planar") return dynamics::BaseType::Planar;
   if (base == "free") return dynamics::BaseType::Free;
-  throw std::invalid_argument("base: expected fixed, planar or free, got '" + base + "'");
+  if (base == "free_quaternion") return dynamics::BaseType::FreeQuaternion;
+  throw std::invalid_argument("base: expected fixed, planar, free or free_quaternion, got '" + base + "'");
 }
 
 Eigen::MatrixXd crbaOf(ModelHandle& h, const VecIn& q) { return dynamics::crba(h.model, h.data, q); }
@@ -85,9 +86,14 @@ void bindDynamics(py::module_& m) {
           py::arg("scene"), py::arg("set") = std::map<std::string, double>{},
           "The model of a built-in scene (ball_drop, ...) or scenario file, with parameter overrides.")
       .def_property_readonly("name", [](const ModelHandle& h) { return h.model.name; })
-      .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq(); }, "Number of coordinates.")
-      .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv(); }, "Number of velocities (= nq).")
-      .def_property_readonly("coordinate_names", [](const ModelHandle& h) { return h.model.coordinate_name; })
+      .def_property_readonly("nq", [](const ModelHandle& h) { return h.model.nq(); },
+                             "Number of position coordinates (nv + 1 with a quaternion base).")
+      .def_property_readonly("nv", [](const ModelHandle& h) { return h.model.nv(); },
+                             "Number of velocity coordinates (= nq but for a quaternion base).")
+      .def_property_readonly("coordinate_names", [](const ModelHandle& h) { return h.model.coordinate_name; },
+                             "Velocity coordinates (of v, a, tau).")
+      .def_property_readonly("position_names", [](const ModelHandle& h) { return h.model.position_name; },
+                             "Position coordinates (of q).")
       .def_property_readonly("body_names", [](const ModelHandle& h) { return h.model.body_name; })
       .def_property_readonly("total_mass", [](const ModelHandle& h) { return h.model.totalMass(); }, "[kg]")
       .def_property_readonly("gravity", [](const ModelHandle& h) { return Eigen::Vector3d(h.model.gravity); },

@@ -70,6 +70,7 @@ void bindScenes(py::module_& m) {
       .def_readonly("duration", &scene::Scene::duration, "Default simulated time [s].")
       .def_readonly("parameters", &scene::Scene::parameters, "The parameters' values (overrides applied).")
       .def_property_readonly("coordinate_names", [](const scene::Scene& s) { return s.model.coordinate_name; })
+      .def_property_readonly("position_names", [](const scene::Scene& s) { return s.model.position_name; })
       .def_property_readonly("contact_names",
                              [](const scene::Scene& s) {
                                std::vector<std::string> names;
@@ -145,7 +146,10 @@ void bindScenes(py::module_& m) {
       .def_property_readonly("t", [](const Simulation& s) { return s.t; }, "Times [s], shape (samples,).")
       .def_property_readonly("q", [](const Simulation& s) { return s.q; }, "Coordinates, shape (samples, nq).")
       .def_property_readonly("v", [](const Simulation& s) { return s.v; }, "Velocities, shape (samples, nv).")
-      .def_property_readonly("coordinate_names", [](const Simulation& s) { return s.layout.coordinates; })
+      .def_property_readonly("coordinate_names", [](const Simulation& s) { return s.layout.coordinates; },
+                             "Velocity coordinates: the columns of v.")
+      .def_property_readonly("position_names", [](const Simulation& s) { return s.layout.positions; },
+                             "Position coordinates: the columns of q (a quaternion base has four for its orientation).")
       .def_property_readonly(
           "contacts",
           [](const Simulation& s) {

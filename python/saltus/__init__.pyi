@@ -22,6 +22,7 @@ class Model:
     nq: int
     nv: int
     coordinate_names: List[str]
+    position_names: List[str]
     body_names: List[str]
     total_mass: float
     gravity: Array
@@ -42,6 +43,7 @@ class Scene:
     duration: float
     parameters: Parameters
     coordinate_names: List[str]
+    position_names: List[str]
     contact_names: List[str]
     surface_names: List[str]
     q0: Array
@@ -68,6 +70,7 @@ class Simulation:
     q: Array
     v: Array
     coordinate_names: List[str]
+    position_names: List[str]
     contacts: Dict[str, Dict[str, Array]]
     stats: Dict[str, float]
     energy_start: float

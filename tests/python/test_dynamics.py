@@ -83,6 +83,8 @@ def test_integer_and_strided_arrays_are_converted(iiwa):
 def test_bundled_models_by_name(iiwa):
     assert saltus.Model.builtin("iiwa").body_names == iiwa.body_names
     assert saltus.Model.builtin("hyq", base="free").nq == 18
+    hyq = saltus.Model.builtin("hyq", base="free_quaternion")
+    assert (hyq.nq, hyq.nv) == (19, 18) and hyq.position_names[3] == "base_qw"
     assert saltus.Model.builtin("double_pendulum").nq == 2
     with pytest.raises(ValueError, match="not a bundled model"):
         saltus.Model.builtin("r2d2")

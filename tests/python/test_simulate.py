@@ -39,7 +39,8 @@ def test_a_control_loop_closed_in_python_holds_the_ball():
 
 
 @pytest.mark.parametrize("scene", ["ball_drop", "block_slide", "pendulum_conveyor", "painleve_rod", "block_on_cart",
-                                   "block_on_slab", "rocking_block", "newtons_cradle", "box_on_corners", "chain_on_stops"])
+                                   "block_on_slab", "rocking_block", "newtons_cradle", "box_on_corners", "chain_on_stops",
+                                   "fast_spin", "hyq_drop"])
 def test_every_built_in_scene_saves_the_commands_trajectory(scene, tmp_path, saltus_binary):
     r = saltus.simulate(scene, dt=2e-3)
     r.save(str(tmp_path / "python.csv"))
@@ -52,6 +53,16 @@ def test_every_built_in_scene_saves_the_commands_trajectory(scene, tmp_path, sal
     python_values = np.loadtxt(tmp_path / "python.csv", delimiter=",", skiprows=1)
     cli_values = np.loadtxt(tmp_path / "cli.csv", delimiter=",", skiprows=1)
     np.testing.assert_allclose(python_values, cli_values, rtol=1e-9, atol=1e-12)
+
+
+def test_a_quaternion_base_has_seven_positions_and_six_velocities():
+    r = saltus.simulate("fast_spin", dt=1e-3, duration=3.0, theta=0.5)
+    assert r.q.shape == (3001, 7) and r.v.shape == (3001, 6)
+    assert r.position_names[3:7] == ["base_qw", "base_qx", "base_qy", "base_qz"]
+    assert r.coordinate_names[3:6] == ["base_wx", "base_wy", "base_wz"]
+    np.testing.assert_allclose(np.linalg.norm(r.q[:, 3:7], axis=1), 1.0, atol=1e-14)
+    flipped = np.nonzero(np.diff(np.sign(r.v[:, 4])))[0]  # the intermediate-axis flip
+    assert len(flipped) == 1 and r.t[flipped[0]] == pytest.approx(2.088, abs=2e-3)
 
 
 def test_bad_input_is_a_value_error_with_the_located_message():
