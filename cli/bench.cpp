@@ -35,6 +35,7 @@
 #include "cli/simulation.hpp"
 #include "scene/scenario.hpp"
 #include "verify/bullet_world.hpp"
+#include "verify/run_outcome.hpp"
 
 namespace saltus::cli {
 
@@ -260,47 +261,37 @@ struct StabilityRun {
   double t_end = 0, max_penetration = 0, energy_gain = 0;
 };
 
-constexpr double kEnergyTolerance = 1e-9;    // relative rise of the energy above E_0
-constexpr double kPenetrationLimit = 1e-3;   // [m]
-
-StabilityRun stabilityRun(const Scene& scene, const EngineOptions& setup, long steps, bool exempt) {
-  StabilityRun r;
+// One cell of the map: the run recorded, then judged by verify::classifyRun (verify/run_outcome.hpp).
+StabilityRun stabilityRun(const Scene& scene, const EngineOptions& setup, long steps, const verify::RunCriteria& criteria) {
+  verify::RunRecord record;
   const std::unique_ptr<Engine> sim = verify::makeEngine(scene, setup);
   Engine& stepper = *sim;
-  const double e0 = stepper.energy();
-  const double scale = e0 != 0 ? std::abs(e0) : 1.0;
+  record.addEnergy(stepper.energy());
   try {
     for (long i = 0; i < steps; ++i) {
       stepper.step();
-      const double e = stepper.energy();
-      if (!std::isfinite(e)) {
-        r.outcome = "nan";
-        r.message = "energy is not finite at t = " + formatNumber(stepper.time()) + " s";
+      if (!record.addEnergy(stepper.energy())) {
+        record.message = "energy is not finite at t = " + formatNumber(stepper.time()) + " s";
         break;
       }
-      r.energy_gain = std::max(r.energy_gain, (e - e0) / scale);
     }
   } catch (const SimulationError& e) {
     const bool finite = stepper.q().allFinite() && stepper.v().allFinite();
     const std::string what = e.what();
-    r.outcome = !finite ? "nan" : what.find("LCP") != std::string::npos ? "lcp_failure" : "error";
-    r.message = what;
+    record.end = !finite ? verify::RunEnd::NotFinite
+                 : what.find("LCP") != std::string::npos ? verify::RunEnd::LcpFailure : verify::RunEnd::OtherError;
+    record.message = what;
   }
+  record.max_penetration = stepper.maxPenetration();
+  record.solver_fallbacks = setup.kind == EngineKind::Bullet ? stepper.failures() : 0;
+  const verify::RunOutcome judged = verify::classifyRun(record, criteria);
+  StabilityRun r;
+  r.outcome = judged.outcome;
+  r.message = judged.message;
   r.steps = stepper.steps();
   r.t_end = stepper.time();
-  r.max_penetration = stepper.maxPenetration();
-  if (r.outcome == "ok") {
-    if (r.max_penetration > kPenetrationLimit) {
-      r.outcome = "penetration";
-      r.message = "largest penetration " + formatNumber(r.max_penetration, 4) + " m";
-    } else if (!exempt && r.energy_gain > kEnergyTolerance) {
-      r.outcome = "energy_gain";
-      r.message = "energy rose above E_0 by " + formatNumber(r.energy_gain, 4) + " (relative)";
-    } else if (setup.kind == EngineKind::Bullet && stepper.failures() > 0) {
-      r.outcome = "solver_fallback";
-      r.message = std::to_string(stepper.failures()) + " MLCP solves fell back to sequential impulse";
-    }
-  }
+  r.max_penetration = record.max_penetration;
+  r.energy_gain = criteria.conservative ? record.energyDrift() : record.energyGain();
   return r;
 }
 
@@ -336,6 +327,10 @@ int stability(const StabilityOptions& opt) {
   for (double e : restitutions)
     if (e > 1) throw UsageError("--restitutions: " + formatNumber(e) + " is not in [0, 1]");
   const bool exempt = isDriven(base);
+  verify::RunCriteria criteria;
+  criteria.energy_checked = !exempt;
+  criteria.conservative = base.contacts.empty() && base.limits.empty() && !exempt;
+  criteria.fallbacks_fail = true;  // only Bullet records them
   const double duration = opt.duration.value_or(base.duration);
   checkStepCounts("--dts", dts, duration);
   checkOutputTarget("--out", opt.out, OutputTarget::Folder);
@@ -352,9 +347,14 @@ int stability(const StabilityOptions& opt) {
       << "# outcome: ok | lcp_failure (SimulationError from the LCP solver) | nan (state not finite) | error (other "
          "SimulationError) | solver_fallback (bullet: ok but MLCP solves fell back to sequential impulse) | "
          "penetration (largest penetration > "
-      << formatNumber(kPenetrationLimit) << " m) | energy_gain (energy above E_0 by more than "
-      << formatNumber(kEnergyTolerance) << " relative to |E_0|"
-      << (exempt ? "; not checked here: the scene has a moving surface or an input" : "") << ")\n"
+      << formatNumber(criteria.penetration_limit) << " m or rad) | "
+      << (criteria.conservative ? "drift (no contact, stop or input: energy away from E_0 by more than " +
+                                      formatNumber(criteria.drift_tolerance) + " relative to |E_0|, either way)"
+                                : "energy_gain (energy above E_0 by more than " + formatNumber(criteria.energy_tolerance) +
+                                      " relative to |E_0|" +
+                                      (exempt ? "; not checked here: the scene has a moving surface or an input" : "") + ")")
+      << "\n"
+      << (criteria.conservative ? "# energy_gain: here the drift, the largest |E - E_0| / |E_0|\n" : "")
       << "engine,dt,friction,restitution,outcome,max_penetration,energy_gain,steps,t_end,message\n";
   std::map<std::string, int> counts;
   const std::vector<double> none{kNaN};
@@ -367,7 +367,7 @@ int stability(const StabilityOptions& opt) {
         if (!std::isnan(e)) o["restitution"] = e;
         const Scene scene = loadScene(opt.scene, o);
         const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate),
-                                            stepCount(duration, dt), exempt);
+                                            stepCount(duration, dt), criteria);
         ++counts[std::string(verify::engineName(engine)) + " " + r.outcome];
         csv << verify::engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
             << (std::isnan(e) ? "" : formatNumber(e, 10)) << "," << r.outcome << ","

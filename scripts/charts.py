@@ -117,6 +117,7 @@ def work_precision(args):
 OUTCOME_COLOURS = {
     "ok": "#4caf50",
     "energy_gain": "#ff9800",
+    "drift": "#00acc1",
     "penetration": "#9c27b0",
     "lcp_failure": "#e53935",
     "nan": "#212121",
