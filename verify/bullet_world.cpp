@@ -286,11 +286,17 @@ BulletWorld::BulletWorld(const scene::Scene& scene, BulletWorldOptions options)
     world_->addMultiBodyConstraint(limits_.back().get());
     limit_coordinate_.push_back(k);
   }
-  // A multibody constraint belongs to the island of the multibody's first collider; with no
-  // collider at all it is never solved. A scene with limits but no contacts gets a collider that
-  // collides with nothing (collision mask 0).
-  if (!limits_.empty() && colliders_.empty()) {
-    const int ci = colliderOfLink(body_->linkOfCoordinate(limit_coordinate_[0]));
+  // Bullet solves a joint-limit constraint in the simulation island of its link's collider, or
+  // of its parent link's (btMultiBodyJointLimitConstraint::getIslandIdA/B); a limit on a link
+  // where neither has a collider is in no island and is never solved, so it is silently ignored
+  // (a chain with one collider passed its other stops by radians). Such a link gets a collider
+  // that collides with nothing (collision mask 0), which puts it in the multibody's island.
+  for (int k : limit_coordinate_) {
+    const int link = body_->linkOfCoordinate(k);
+    const int parent = mb->getLink(link).m_parent;
+    const bool parent_collider = parent < 0 ? mb->getBaseCollider() != nullptr : mb->getLink(parent).m_collider != nullptr;
+    if (mb->getLink(link).m_collider || parent_collider) continue;
+    const int ci = colliderOfLink(link);
     auto* compound = static_cast<btCompoundShape*>(colliders_[ci]->getCollisionShape());
     btTransform local;
     local.setIdentity();

@@ -337,6 +337,26 @@ TEST(BulletWorld, JointLimitStopHolds) {
   EXPECT_LT(q_min_free, -0.3);
 }
 
+// Bullet solves a joint limit only in the island of its link's (or its parent link's) collider:
+// a stop on θ1 of the pendulum whose one collider is on the tip's link (its belt contact, the
+// belt moved out of reach) was ignored, and the pendulum swung through it. The world gives such a
+// link a collider that collides with nothing.
+TEST(BulletWorld, AStopOnALinkWithoutAColliderHolds) {
+  scene::Scene scene = scene::loadScene("pendulum_conveyor");
+  scene.surfaces[0].point.z() -= 10;  // the tip's contact stays, far from its belt
+  scene.surfaces[0].velocity_schedule.clear();
+  scene.limits.push_back({"theta1_lower", 0, false, 0.2, 0.0});
+  scene.q0 = Eigen::Vector2d(0.6, 0.0);
+  BulletWorld world(scene, worldOptions(1e-3));
+  double q_min = 1;
+  for (int i = 0; i < 1500; ++i) {
+    world.step();
+    q_min = std::min(q_min, world.q()[0]);
+  }
+  EXPECT_GT(q_min, 0.2 - 0.02);
+  EXPECT_LT(q_min, 0.2 + 1e-3);
+}
+
 TEST(BulletWorld, TimeVaryingInputIsAppliedPerStep) {
   // A ball high above the ground: semi-implicit Euler with a = τ/m − g gives exactly
   // v_n = h Σ a_k and z_n = z_0 + h Σ v_k.
