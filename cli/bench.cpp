@@ -11,7 +11,7 @@
 //                   lcp_failure, nan, energy_gain or penetration. DIR/stability.csv and a grid
 //                   chart DIR/stability.png/.svg.
 //
-//   per-step        ns per step of both engines at one dt on several built-in scenes (interleaved
+//   per-step        ns per step of each engine at one dt on several built-in scenes (interleaved
 //                   rounds, fastest kept), their ratio and errors; CSV on standard output.
 //
 // --engine saltus|bullet|both: the saltus time-stepper and/or Bullet's btMultiBodyDynamicsWorld
@@ -183,6 +183,7 @@ int workPrecision(const WorkPrecisionOptions& opt) {
 
 struct PerStepOptions {
   std::string scenes = "ball_drop,block_slide,pendulum_conveyor";
+  std::string engine = "all";
   double dt = 1e-3;
   int repeat = 5;
   double min_time = 0.2;
@@ -196,6 +197,7 @@ int perStep(const PerStepOptions& opt) {
   checkStepOptions("--dt", opt.dt, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
   const verify::BulletSolver bullet_solver = parseBulletSolverOption(opt.bullet_solver);
+  std::vector<EngineKind> engines = parseEngineOption(opt.engine);
   const bool locate = !opt.no_locate_impacts;
   if (opt.repeat < 1) throw UsageError("--repeat: expected a positive count");
   if (!(opt.min_time >= 0) || !std::isfinite(opt.min_time))
@@ -219,34 +221,47 @@ int perStep(const PerStepOptions& opt) {
   }
   std::cout << "# saltus bench per-step: dt " << formatNumber(opt.dt) << " s; ns per step = fastest of " << opt.repeat
             << " rounds (each the fastest run of at least " << formatNumber(opt.min_time)
-            << " s CPU), the engines interleaved; error as in work-precision\n"
-            << "# saltus: theta " << formatNumber(opt.theta) << ", " << solverName(solver)
-            << (opt.no_locate_impacts ? ", impacts at the step's start" : ", impacts located within the step")
-            << "; bullet: "
-            << verify::bulletSolverName(bullet_solver) << ", tuned settings (verify/bullet_world.hpp)\n"
-            << "scene,saltus_ns_per_step,bullet_ns_per_step,bullet_over_saltus,saltus_error,bullet_error,"
-               "saltus_failures,bullet_failures\n";
+            << " s CPU), the engines interleaved; error as in work-precision; over_saltus = ns per step / saltus'\n";
+  for (EngineKind engine : engines)
+    std::cout << "# " << describe(engineSetup(engine, opt.dt, opt.theta, solver, bullet_solver, locate)) << "\n";
+  std::cout << "scene,engine,ns_per_step,over_saltus,error,failures,note\n";
+  const double inf = std::numeric_limits<double>::infinity();
   for (const Scene& scene : scenes) {
     const long steps = stepCount(scene.duration, opt.dt);
     ErrorModel model = makeErrorModel(scene, {opt.dt}, scene.duration, solver);
-    double ns[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-    double error[2] = {kNaN, kNaN};
-    long failures[2] = {0, 0};
-    for (int e = 0; e < 2; ++e) {
-      const EngineOptions setup = engineSetup(e ? EngineKind::Bullet : EngineKind::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
+    const std::size_t n = engines.size();
+    std::vector<double> ns(n, inf), error(n, kNaN);
+    std::vector<long> failures(n, 0);
+    std::vector<std::string> note(n);  // an engine that cannot build the scene: why
+    for (std::size_t e = 0; e < n; ++e) {
+      const EngineOptions setup = engineSetup(engines[e], opt.dt, opt.theta, solver, bullet_solver, locate);
+      try {
+        verify::makeEngine(scene, setup);
+      } catch (const std::invalid_argument& refused) {
+        note[e] = refused.what();
+        continue;
+      }
       const RecordedRun run = recordRun(scene, setup, steps, model.tracked);
+      if (run.failed) throw std::runtime_error(scene.name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);
       error[e] = runError(model, run);
       failures[e] = run.failures;
-      if (run.failed) throw std::runtime_error(scene.name + ": the " + verify::engineName(setup.kind) + " run failed: " + run.message);
     }
     for (int round = 0; round < opt.repeat; ++round)
-      for (int e = 0; e < 2; ++e) {
-        const EngineOptions setup = engineSetup(e ? EngineKind::Bullet : EngineKind::Saltus, opt.dt, opt.theta, solver, bullet_solver, locate);
+      for (std::size_t e = 0; e < n; ++e) {
+        if (!note[e].empty()) continue;
+        const EngineOptions setup = engineSetup(engines[e], opt.dt, opt.theta, solver, bullet_solver, locate);
         ns[e] = std::min(ns[e], timeRuns(scene, setup, steps, opt.min_time).wall * 1e9 / steps);
       }
-    std::cout << scene.name << "," << formatNumber(ns[0], 5) << "," << formatNumber(ns[1], 5) << ","
-              << formatNumber(ns[1] / ns[0], 3) << "," << formatNumber(error[0], 5) << "," << formatNumber(error[1], 5)
-              << "," << failures[0] << "," << failures[1] << std::endl;
+    double saltus_ns = kNaN;
+    for (std::size_t e = 0; e < n; ++e)
+      if (engines[e] == EngineKind::Saltus && note[e].empty()) saltus_ns = ns[e];
+    for (std::size_t e = 0; e < n; ++e) {
+      const bool ran = note[e].empty();
+      std::cout << scene.name << "," << verify::engineName(engines[e]) << "," << (ran ? formatNumber(ns[e], 5) : "") << ","
+                << (ran && !std::isnan(saltus_ns) ? formatNumber(ns[e] / saltus_ns, 3) : "") << ","
+                << (ran ? formatNumber(error[e], 5) : "") << "," << (ran ? std::to_string(failures[e]) : "") << ","
+                << csvField(ran ? "" : "not built: " + note[e]) << std::endl;
+    }
   }
   return 0;
 }
@@ -436,9 +451,10 @@ Command addBenchCommand(CLI::App& saltus) {
   auto ps = std::make_shared<PerStepOptions>();
   CLI::App* ps_app = bench->add_subcommand(
       "per-step",
-      "ns per step of saltus and Bullet at the same dt on built-in scenes (interleaved, fastest of --repeat rounds), "
-      "their ratio and errors; a CSV table on standard output.");
+      "ns per step of each engine at the same dt on built-in scenes (interleaved, fastest of --repeat rounds), "
+      "their ratio to saltus and their errors; a CSV table on standard output.");
   ps_app->add_option("--scenes", ps->scenes, "Built-in scenes, comma-separated")->capture_default_str();
+  ps_app->add_option("--engine", ps->engine, "saltus, bullet, mujoco, both (saltus and bullet) or all")->capture_default_str();
   ps_app->add_option("--dt", ps->dt, "Time step [s]")->capture_default_str();
   ps_app->add_option("--repeat", ps->repeat, "Timing rounds (the fastest is kept)")->capture_default_str();
   ps_app->add_option("--min-time", ps->min_time, "CPU seconds per timing (fastest run kept)")->capture_default_str();
