@@ -12,39 +12,11 @@
 #include "dynamics/energy.hpp"
 #include "dynamics/jacobian.hpp"
 #include "dynamics/kinematics.hpp"
+#include "dynamics/ltl.hpp"
 #include "dynamics/rnea.hpp"
 
 namespace saltus::timestepper {
 namespace {
-
-// Triangular solves with the Cholesky factor M = L Lᵀ, L in the lower triangle of `factor`
-// (Eigen's LLT storage), written out: the stepper's systems have a few coordinates, where the
-// set-up of Eigen's blocked triangular solvers costs more than the arithmetic.
-// x ← L⁻¹ x, forward substitution by columns (G. H. Golub & C. F. Van Loan, "Matrix
-// Computations", 4th ed., Alg. 3.1.3).
-void forwardSubstitute(const Eigen::MatrixXd& factor, double* x) {
-  const int n = static_cast<int>(factor.rows());
-  for (int k = 0; k < n; ++k) {
-    x[k] /= factor(k, k);
-    const double* const l = &factor(0, k);
-    for (int i = k + 1; i < n; ++i) x[i] -= l[i] * x[k];
-  }
-}
-// x ← L⁻ᵀ x, back substitution by rows of Lᵀ, i.e. columns of L (ibid., Alg. 3.1.2).
-void backSubstitute(const Eigen::MatrixXd& factor, double* x) {
-  const int n = static_cast<int>(factor.rows());
-  for (int i = n - 1; i >= 0; --i) {
-    const double* const l = &factor(0, i);
-    double s = x[i];
-    for (int k = i + 1; k < n; ++k) s -= l[k] * x[k];
-    x[i] = s / l[i];
-  }
-}
-// x ← M⁻¹ x = L⁻ᵀ L⁻¹ x.
-void choleskySolve(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
-  forwardSubstitute(factor, x.data());
-  backSubstitute(factor, x.data());
-}
 
 // When a contact that is open at the start of a step (gap g0 > 0, normal velocity vn) closes
 // within it: the earliest root in (0, h] of the gap model g(t) = g0 + vn t + c t², with c fitted
@@ -69,7 +41,7 @@ double impactTime(double g0, double vn, double g_end, double h, double theta, do
 }  // namespace
 
 TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
-    : scene_(scene), options_(options), data_(scene_.model), llt_(scene_.model.nv()), solver_(0) {
+    : scene_(scene), options_(options), data_(scene_.model), solver_(0) {
   const int nv = scene_.model.nv();
   if (!(options_.dt > 0)) throw std::invalid_argument("time step must be positive");
   if (options_.theta < 0.5 || options_.theta > 1) throw std::invalid_argument("theta must lie in [0.5, 1]");
@@ -96,6 +68,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   active_e_.reserve(m_max);
   J_.resize(m_max + f_max, nv);
   Y_.resize(nv, m_max + f_max);
+  L_.resize(nv, nv);
   impulse_.resize(nv);
   surface_velocity_.resize(f_max);
   A_.setZero(nz_max, nz_max);
@@ -205,13 +178,14 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
 }
 
 // Y = L⁻¹ Jᵀ for the first `rows` rows of J, and the Delassus matrix W = J M⁻¹ Jᵀ = Yᵀ Y into
-// the top-left corner of A_, lower triangle mirrored. Needs llt_.
+// the top-left corner of A_, lower triangle mirrored. Needs L_.
 void TimeStepper::delassus(int rows) {
-  const int nv = scene_.model.nv();
+  const dynamics::Model<double>& model = scene_.model;
+  const int nv = model.nv();
   for (int r = 0; r < rows; ++r) {
     double* const y = &Y_(0, r);
     for (int i = 0; i < nv; ++i) y[i] = J_(r, i);
-    forwardSubstitute(llt_.matrixLLT(), y);
+    dynamics::solveLtlTranspose(model, L_, y);  // zero off the contact's paths to the root
   }
   for (int j = 0; j < rows; ++j)
     for (int i = j; i < rows; ++i) A_(i, j) = A_(j, i) = Y_.col(i).dot(Y_.col(j));
@@ -220,12 +194,12 @@ void TimeStepper::delassus(int rows) {
 // v += M⁻¹ Jᵀ z for the first `rows` rows of J and entries of z_.
 void TimeStepper::applyImpulses(int rows, Eigen::VectorXd& v) {
   impulse_.noalias() = J_.topRows(rows).transpose() * z_.head(rows);
-  choleskySolve(llt_.matrixLLT(), impulse_);
+  dynamics::solveMassLtl(scene_.model, L_, impulse_.data());
   v += impulse_;
 }
 
 // Assembles and solves the LCP in z = (p_n, β, λ) of a (sub-)step of length h (h = 0: an impact,
-// velocities only); throws on failure. Needs J_ and llt_.
+// velocities only); throws on failure. Needs J_ and L_.
 void TimeStepper::solveLcp(int nz, double h) {
   const int m = m_, f = f_;
   auto A = A_.topLeftCorner(nz, nz);
@@ -317,7 +291,7 @@ void TimeStepper::project() {
                           t_, activeNames(), result.residual);
   }
   impulse_.noalias() = J_.topRows(m_).transpose() * z_.head(m_);
-  choleskySolve(llt_.matrixLLT(), impulse_);
+  dynamics::solveMassLtl(model, L_, impulse_.data());
   dynamics::integrate(model, q_, impulse_, 1.0, q_);  // q ⊕ Δ, Δ = M⁻¹ Nᵀ p
 }
 
@@ -356,15 +330,15 @@ void TimeStepper::linearise(double h) {
   dynamics::integrate(model, q_, v_, (1 - theta) * h, q_theta_);  // q_θ = q ⊕ (1 − θ) h v
   dynamics::forwardKinematics(model, data_, q_theta_);  // the world poses used below
   dynamics::crba(model, data_, q_theta_);  // with the joint transforms reused by h below
-  llt_.compute(data_.M);
-  if (llt_.info() != Eigen::Success)
+  L_ = data_.M;  // same size: no allocation
+  if (!dynamics::factorLtl(model, L_))
     throw SimulationError("mass matrix is not positive definite at t = " + std::to_string(t_) + " s", t_, {}, 0);
   rhs_ = tau_ - dynamics::nonLinearEffectsAtCurrentPoses(model, data_, v_);
-  choleskySolve(llt_.matrixLLT(), rhs_);
+  dynamics::solveMassLtl(model, L_, rhs_.data());
   if (theta < 1) {  // forces at the predicted v_θ
     v_theta_ = v_ + (1 - theta) * h * rhs_;
     rhs_ = tau_ - dynamics::nonLinearEffectsAtCurrentPoses(model, data_, v_theta_);
-    choleskySolve(llt_.matrixLLT(), rhs_);
+    dynamics::solveMassLtl(model, L_, rhs_.data());
   }
   v_free_ = v_ + h * rhs_;
 }

@@ -171,7 +171,7 @@ class TimeStepper {
   dynamics::Data<double> data_;
   double t_ = 0;
   Eigen::VectorXd q_, v_, q_theta_, v_theta_, v_free_, rhs_, tau_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd L_;  // M(q_θ) = Lᵀ L, branch-sparse (dynamics/ltl.hpp), in the lower triangle
   std::vector<contact::ContactPair> pairs_;  // the contact layer's pairs: scene contacts, then limit stops
   std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J_point_;  // per pair: its relative Jacobian, 3 × nv
   // Active rows: normal rows first (contacts then limits), then the friction rows.
@@ -184,9 +184,9 @@ class TimeStepper {
   std::vector<double> active_gap_, active_e_;
   std::vector<int> solved_active_;    // active_ of the last contact LCP whose solution z_ holds
   // J_ = [N; D]: the m normal rows, then the f friction rows (each row of J_ is a row of N or D).
-  // With M = L Lᵀ (llt_), Y_ = L⁻¹ J_ᵀ, so the Delassus matrix is W = J M⁻¹ Jᵀ = Yᵀ Y: one
-  // forward substitution per row and symmetric by construction; the impulses act through one
-  // solve M⁻¹ (Jᵀ z) of a vector.
+  // With M = Lᵀ L (L_), Y_ = L⁻ᵀ J_ᵀ, so the Delassus matrix is W = J M⁻¹ Jᵀ = Yᵀ Y: one sparse
+  // substitution per row (a contact's row is zero off its bodies' paths to the root, and stays
+  // so) and symmetric by construction; the impulses act through one solve M⁻¹ (Jᵀ z) of a vector.
   Eigen::MatrixXd J_, Y_;                    // (m + f) × nv, nv × (m + f)
   Eigen::VectorXd surface_velocity_;         // d_ij · v_surface for each friction row
   Eigen::VectorXd impulse_;                  // Jᵀ z, then M⁻¹ Jᵀ z
