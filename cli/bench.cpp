@@ -67,11 +67,12 @@ struct WorkPrecisionOptions : BenchOptions {
 
 struct StabilityOptions : BenchOptions {
   std::string dts = "1e-3,2e-3,5e-3,1e-2,2e-2,5e-2,1e-1";
-  std::optional<std::string> frictions, restitutions;
+  std::optional<std::string> frictions, restitutions, mass_ratios;
 };
 
 const char* kDefaultFrictions = "0.3,0.6,1,2,5";
 const char* kDefaultRestitutions = "0,0.25,0.5,0.75,0.9,1";
+const char* kDefaultMassRatios = "1,10,100,1000,10000";
 
 // Every dt of a grid gives a valid step count over `duration` (before any work).
 void checkStepCounts(const std::string& option, const std::vector<double>& dts, double duration) {
@@ -323,22 +324,25 @@ int stability(const StabilityOptions& opt) {
   const std::map<std::string, double> overrides = parseSetOptions(opt.set);
   const Scene base = loadScene(opt.scene, overrides);
 
-  // The grid's parameter axes: those of friction and restitution the scene has.
-  const auto axis = [&](const char* name, const std::optional<std::string>& given, const char* defaults) {
+  // The grid's parameter axes: those of friction, restitution and mass ratio the scene has.
+  const auto axis = [&](const char* name, const char* option, const std::optional<std::string>& given, const char* defaults) {
     std::vector<double> values;
     if (!base.parameters.count(name)) {
       if (given)
-        throw UsageError(std::string("--") + name + "s: scene " + base.name + " has no parameter '" + name +
+        throw UsageError(std::string(option) + ": scene " + base.name + " has no parameter '" + name +
                          "' (its parameters: " + parameterList(base) + ")");
       return values;
     }
-    values = parseNumberList(std::string("--") + name + "s", given.value_or(defaults), false);
+    values = parseNumberList(option, given.value_or(defaults), false);
     std::sort(values.begin(), values.end());
     values.erase(std::unique(values.begin(), values.end()), values.end());
     return values;
   };
-  const std::vector<double> frictions = axis("friction", opt.frictions, kDefaultFrictions);
-  const std::vector<double> restitutions = axis("restitution", opt.restitutions, kDefaultRestitutions);
+  const std::vector<double> frictions = axis("friction", "--frictions", opt.frictions, kDefaultFrictions);
+  const std::vector<double> restitutions = axis("restitution", "--restitutions", opt.restitutions, kDefaultRestitutions);
+  const std::vector<double> mass_ratios = axis("mass_ratio", "--mass-ratios", opt.mass_ratios, kDefaultMassRatios);
+  for (double r : mass_ratios)
+    if (!(r > 0)) throw UsageError("--mass-ratios: " + formatNumber(r) + " is not positive");
   for (double e : restitutions)
     if (e > 1) throw UsageError("--restitutions: " + formatNumber(e) + " is not in [0, 1]");
   const bool exempt = isDriven(base);
@@ -358,6 +362,7 @@ int stability(const StabilityOptions& opt) {
     csv << (i ? "; " : "") << describe(engineSetup(engines[i], 1e-3, opt.theta, solver, bullet_solver, locate));
   csv << ", duration " << formatNumber(duration) << " s\n"
       << "# grid: dt x " << (frictions.empty() ? "" : "friction x ") << (restitutions.empty() ? "" : "restitution x ")
+      << (mass_ratios.empty() ? "" : "mass_ratio x ")
       << "(empty column: the scene has no such parameter)\n"
       << "# outcome: ok | lcp_failure (SimulationError from the LCP solver) | nan (state not finite) | error (other "
          "SimulationError) | solver_fallback (bullet: ok but MLCP solves fell back to sequential impulse) | "
@@ -370,22 +375,25 @@ int stability(const StabilityOptions& opt) {
                                       (exempt ? "; not checked here: the scene has a moving surface or an input" : "") + ")")
       << "\n"
       << (criteria.conservative ? "# energy_gain: here the drift, the largest |E - E_0| / |E_0|\n" : "")
-      << "engine,dt,friction,restitution,outcome,max_penetration,energy_gain,steps,t_end,message\n";
+      << "engine,dt,friction,restitution,mass_ratio,outcome,max_penetration,energy_gain,steps,t_end,message\n";
   std::map<std::string, int> counts;
   const std::vector<double> none{kNaN};
   for (EngineKind engine : engines)
   for (double dt : dts)
     for (double mu : frictions.empty() ? none : frictions)
-      for (double e : restitutions.empty() ? none : restitutions) {
+      for (double e : restitutions.empty() ? none : restitutions)
+      for (double ratio : mass_ratios.empty() ? none : mass_ratios) {
         std::map<std::string, double> o = overrides;
         if (!std::isnan(mu)) o["friction"] = mu;
         if (!std::isnan(e)) o["restitution"] = e;
+        if (!std::isnan(ratio)) o["mass_ratio"] = ratio;
         const Scene scene = loadScene(opt.scene, o);
         const StabilityRun r = stabilityRun(scene, engineSetup(engine, dt, opt.theta, solver, bullet_solver, locate),
                                             stepCount(duration, dt), criteria);
         ++counts[std::string(verify::engineName(engine)) + " " + r.outcome];
         csv << verify::engineName(engine) << "," << formatNumber(dt, 10) << "," << (std::isnan(mu) ? "" : formatNumber(mu, 10)) << ","
-            << (std::isnan(e) ? "" : formatNumber(e, 10)) << "," << r.outcome << ","
+            << (std::isnan(e) ? "" : formatNumber(e, 10)) << "," << (std::isnan(ratio) ? "" : formatNumber(ratio, 10)) << ","
+            << r.outcome << ","
             << formatNumber(r.max_penetration, 6) << "," << formatNumber(r.energy_gain, 6) << "," << r.steps << ","
             << formatNumber(r.t_end, 10) << "," << csvField(r.message) << "\n";
       }
@@ -447,6 +455,9 @@ Command addBenchCommand(CLI::App& saltus) {
   st_app->add_option_function<std::string>(
       "--restitutions", [st](const std::string& s) { st->restitutions = s; },
       std::string("Values of the scene's 'restitution' parameter (default ") + kDefaultRestitutions + ")");
+  st_app->add_option_function<std::string>(
+      "--mass-ratios", [st](const std::string& s) { st->mass_ratios = s; },
+      std::string("Values of the scene's 'mass_ratio' parameter (default ") + kDefaultMassRatios + ")");
 
   auto ps = std::make_shared<PerStepOptions>();
   CLI::App* ps_app = bench->add_subcommand(

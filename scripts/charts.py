@@ -134,15 +134,11 @@ def stability(args):
     if not rows:
         raise SystemExit("charts.py: %s: no rows" % args.csv)
     scene, method = scene_title(meta)
-    has_mu = any(r.get("friction") for r in rows)
-    has_e = any(r.get("restitution") for r in rows)
+    # the grid's parameter axes present, in order: the first is the y axis, the second the panels
+    present_axes = [name for name in ("friction", "restitution", "mass_ratio") if any(r.get(name) for r in rows)]
     dts = sorted({number(r["dt"]) for r in rows})
-    if has_mu:
-        y_name, panel_name = "friction", ("restitution" if has_e else None)
-    elif has_e:
-        y_name, panel_name = "restitution", None
-    else:
-        y_name, panel_name = None, None
+    y_name = present_axes[0] if present_axes else None
+    panel_name = present_axes[1] if len(present_axes) > 1 else None
     ys = sorted({number(r[y_name]) for r in rows}) if y_name else [0.0]
     values = sorted({number(r[panel_name]) for r in rows}) if panel_name else [None]
     engines = sorted({r.get("engine") or "" for r in rows}, key=lambda e: (e != "saltus", e))

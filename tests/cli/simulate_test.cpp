@@ -278,7 +278,7 @@ TEST(BenchStability, BallDropTinyGrid) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
   const Csv csv = readCsv(dir / "stability.csv");
-  EXPECT_EQ(csv.header, (std::vector<std::string>{"engine", "dt", "friction", "restitution", "outcome",
+  EXPECT_EQ(csv.header, (std::vector<std::string>{"engine", "dt", "friction", "restitution", "mass_ratio", "outcome",
                                                    "max_penetration", "energy_gain", "steps", "t_end", "message"}));
   ASSERT_EQ(csv.rows.size(), 4u) << "2 dt × 2 restitution (ball_drop has no friction parameter)";
   const std::set<std::string> outcomes{"ok", "lcp_failure", "nan", "energy_gain", "drift", "penetration", "error", "solver_fallback"};
@@ -349,6 +349,23 @@ TEST(BenchWorkPrecision, AllEnginesOnTheRockingBlock) {
   bool housner = false;
   for (const std::string& c : csv.comments) housner |= c.find("Housner") != std::string::npos;
   EXPECT_TRUE(housner);
+}
+
+// The mass-ratio axis of a stack: Saltus' projected Gauss–Seidel holds three equal boxes and
+// fails (reported, not sunk) under a top box 100 times heavier; Lemke holds both.
+TEST(BenchStability, MassRatioAxisOfTheStack) {
+  const TempDir dir("stabstack");
+  for (const char* solver : {"pgs", "lemke"}) {
+    const Result r = runSaltus({"bench", "stability", "box_stack", "--solver", solver, "--dts", "1e-3", "--mass-ratios",
+                                "1,100", "--out", dir.path().string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Csv csv = readCsv(dir / "stability.csv");
+    ASSERT_EQ(csv.rows.size(), 2u);
+    EXPECT_EQ(csv.number(0, "mass_ratio"), 1);
+    EXPECT_EQ(csv.number(1, "mass_ratio"), 100);
+    EXPECT_EQ(csv.rows[0].at("outcome"), "ok") << solver;
+    EXPECT_EQ(csv.rows[1].at("outcome"), std::string(solver) == "pgs" ? "lcp_failure" : "ok") << solver;
+  }
 }
 
 // fast_spin (a quaternion base, no force): the error is the drift of energy and angular momentum.

@@ -62,7 +62,7 @@ Eigen::Vector3d framePosition(const Scene& s, const std::string& frame, const Ei
 
 TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
-            (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners",
+            (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners", "box_stack",
                                       "chain_on_stops", "fast_spin", "hyq_drop", "newtons_cradle", "painleve_rod",
                                       "pendulum_conveyor", "rocking_block"}));
 }
@@ -72,7 +72,8 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
       {"ball_drop", {1, 1}},         {"block_slide", {2, 1}},   {"pendulum_conveyor", {2, 1}},
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
       {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
-      {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}},     {"hyq_drop", {18, 4}}};
+      {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}},     {"hyq_drop", {18, 4}},
+      {"box_stack", {3, 3}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -434,7 +435,7 @@ TEST(Scenario, UnknownBuiltinListsTheBuiltins) {
   const std::string what = errorOf([] { loadScene("ball_dorp"); });
   EXPECT_TRUE(contains(what, "unknown built-in scene 'ball_dorp'")) << what;
   EXPECT_TRUE(contains(what, "did you mean 'ball_drop'")) << what;
-  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, chain_on_stops, fast_spin, hyq_drop, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
+  EXPECT_TRUE(contains(what, "ball_drop, block_on_cart, block_on_slab, block_slide, box_on_corners, box_stack, chain_on_stops, fast_spin, hyq_drop, newtons_cradle, painleve_rod, pendulum_conveyor, rocking_block")) << what;
 }
 
 TEST(Scenario, MissingFile) {

@@ -327,6 +327,36 @@ TEST(Analytic, StepperOnTheHyqDrop) {
   }
 }
 
+// box_stack (three boxes at rest, the top one 1, 100 or 10,000 times heavier): Lemke gives each
+// contact the weight above it, to round-off, at every step, and nothing moves; projected
+// Gauss–Seidel does not converge from a ratio of 100 and the step fails with its residual.
+TEST(Analytic, StepperOnTheBoxStack) {
+  for (double ratio : {1.0, 100.0, 1e4}) {
+    SCOPED_TRACE("mass_ratio " + std::to_string(ratio));
+    const Scene scene = scene::loadScene("box_stack", {{"mass_ratio", ratio}});
+    const double m = scene.parameters.at("mass"), g = 9.81, dt = 1e-3;
+    const double weight_above[3] = {(2 + ratio) * m * g, (1 + ratio) * m * g, ratio * m * g};  // ground, middle, top
+    StepperOptions o;
+    o.dt = dt;
+    TimeStepper sim(scene, o);
+    const Eigen::VectorXd q0 = sim.q();
+    for (int k = 0; k < 200; ++k) {
+      sim.step();
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(sim.contacts()[c].pn, weight_above[c] * dt, 1e-11 * weight_above[0] * dt) << c;
+    }
+    EXPECT_LT((sim.q() - q0).lpNorm<Eigen::Infinity>(), 1e-12);
+    EXPECT_LT(sim.v().lpNorm<Eigen::Infinity>(), 1e-12);
+    EXPECT_EQ(sim.stats().lcp_failures, 0);
+  }
+  StepperOptions pgs;
+  pgs.dt = 1e-3;
+  pgs.solver = LcpMethod::Pgs;
+  TimeStepper equal(scene::loadScene("box_stack", {}), pgs);
+  for (int k = 0; k < 200; ++k) equal.step();  // ratio 1: converges
+  TimeStepper heavy(scene::loadScene("box_stack", {{"mass_ratio", 100.0}}), pgs);
+  EXPECT_THROW(heavy.step(), SimulationError);
+}
+
 // Landau and Lifshitz's flip times against a hand evaluation: λ = √12.0001, k' = √(8.33e-6),
 // K ≈ ln(4/k') for k → 1 (Abramowitz and Stegun 17.3.26).
 TEST(Analytic, SpinFlipTimes) {

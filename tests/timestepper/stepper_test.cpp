@@ -281,7 +281,7 @@ TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
   std::vector<Scene> scenes = {testing::ballDrop(0.3, 0.5), testing::blockSlide(0.2, 1.0, 0.3),
                                testing::pendulumConveyor(2.0, 0.5, 0.01), testing::painleveRod(2.0, std::atan(2.0), 1.0),
                                testing::particle3d(Eigen::Vector2d(1.0, 0.5), 0.4, 8)};
-  for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart", "hyq_drop"})
+  for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart", "hyq_drop", "box_stack"})
     scenes.push_back(scene::loadScene(name));
   scenes.push_back(scene::loadScene("box_on_corners", {{"drop", 0.05}}));
   for (const Scene& scene : scenes) {
