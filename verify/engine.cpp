@@ -1,5 +1,7 @@
 #include "verify/engine.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -16,12 +18,23 @@ const char* engineName(EngineKind kind) {
 }
 
 std::vector<EngineKind> parseEngines(const std::string& name) {
-  if (name == "saltus") return {EngineKind::Saltus};
-  if (name == "bullet") return {EngineKind::Bullet};
-  if (name == "mujoco") return {EngineKind::Mujoco};
   if (name == "both") return {EngineKind::Saltus, EngineKind::Bullet};
   if (name == "all") return {EngineKind::Saltus, EngineKind::Bullet, EngineKind::Mujoco};
-  throw std::invalid_argument("unknown engine '" + name + "' (expected saltus, bullet, mujoco, both or all)");
+  std::vector<EngineKind> engines;  // one name, or a comma-separated list of them
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = name.find(',', start);
+    const std::string one = name.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    EngineKind kind;
+    if (one == "saltus") kind = EngineKind::Saltus;
+    else if (one == "bullet") kind = EngineKind::Bullet;
+    else if (one == "mujoco") kind = EngineKind::Mujoco;
+    else
+      throw std::invalid_argument("unknown engine '" + one + "' (expected saltus, bullet, mujoco, a comma-separated list of them, both or all)");
+    if (std::find(engines.begin(), engines.end(), kind) == engines.end()) engines.push_back(kind);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return engines;
 }
 
 namespace {

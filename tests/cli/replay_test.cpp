@@ -115,7 +115,7 @@ TEST(ReplayCommand, MujocoReplaysTheBounceWithItsApproximations) {
   EXPECT_NE(readFile(out / "replay.csv").find("mujoco.q.z"), std::string::npos);
   const auto refused = runSaltus({"replay", dropDir().string(), "--engine", "ode", "--out", out.string()});
   EXPECT_EQ(refused.status, 2);
-  EXPECT_NE(refused.err.find("expected saltus, bullet, mujoco, both or all"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("expected saltus, bullet, mujoco, a comma-separated list of them, both or all"), std::string::npos) << refused.err;
   fs::remove_all(out);
 }
 

@@ -351,6 +351,52 @@ TEST(BenchWorkPrecision, AllEnginesOnTheRockingBlock) {
   EXPECT_TRUE(housner);
 }
 
+// bench summary: each engine's map and chart per scene, and one table whose figures are those of
+// the maps and charts (the largest dt ok in every cell at it and below; the largest dt whose
+// error is at most the target, and its cost).
+TEST(BenchSummary, TheTableComesFromTheMapsAndCharts) {
+  const TempDir dir("summary");
+  const Result r = runSaltus({"bench", "summary", "--scenes", "ball_drop", "--min-time", "0", "--out", dir.path().string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv table = readCsv(dir / "summary.csv");
+  ASSERT_EQ(table.rows.size(), 4u);
+  EXPECT_EQ(table.rows[0].at("engine"), "saltus θ=1");
+  EXPECT_EQ(table.rows[3].at("engine"), "saltus θ=½");
+  const Csv stability = readCsv(dir / "ball_drop/stability.csv");
+  const Csv wp = readCsv(dir / "ball_drop/work_precision.csv");
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string engine = i == 0 ? "saltus" : table.rows[i].at("engine");
+    SCOPED_TRACE(engine);
+    std::map<double, bool> ok;
+    for (std::size_t k = 0; k < stability.rows.size(); ++k)
+      if (stability.rows[k].at("engine") == engine) {
+        const double dt = stability.number(k, "dt");
+        ok[dt] = (ok.count(dt) ? ok[dt] : true) && stability.rows[k].at("outcome") == "ok";
+      }
+    double stable = -1;
+    for (const auto& [dt, all_ok] : ok) {
+      if (!all_ok) break;
+      stable = dt;
+    }
+    if (stable < 0)
+      EXPECT_EQ(table.rows[i].at("largest_stable_dt"), "");
+    else
+      EXPECT_NEAR(table.number(i, "largest_stable_dt"), stable, 1e-15);
+    double dt_target = -1, ns = 0;
+    for (std::size_t k = 0; k < wp.rows.size(); ++k)
+      if (wp.rows[k].at("engine") == engine && wp.number(k, "error") <= 1e-3 && wp.number(k, "dt") > dt_target)
+        dt_target = wp.number(k, "dt"), ns = wp.number(k, "ns_per_step");
+    if (dt_target < 0) {
+      EXPECT_EQ(table.rows[i].at("dt_at_target"), "");
+    } else {
+      EXPECT_NEAR(table.number(i, "dt_at_target"), dt_target, 1e-15);
+      EXPECT_NEAR(table.number(i, "ns_per_step_at_target"), ns, 1e-3 * ns);
+    }
+  }
+  EXPECT_GT(readFile(dir / "ball_drop/theta_half/stability.png").size(), 1000u);
+  EXPECT_NE(readFile(dir / "summary.md").find("| ball_drop | saltus θ=½ |"), std::string::npos);
+}
+
 // The mass-ratio axis of a stack: Saltus' projected Gauss–Seidel holds three equal boxes and
 // fails (reported, not sunk) under a top box 100 times heavier; Lemke holds both.
 TEST(BenchStability, MassRatioAxisOfTheStack) {
