@@ -367,17 +367,18 @@ TEST(Analytic, SpinFlipTimes) {
   EXPECT_NEAR(t[1], 3 * t[0], 1e-12);
 }
 
-// The stepper on fast_spin (a quaternion base, no contact): the body flips at Landau and
-// Lifshitz's times, energy and the world angular momentum hold to the integrator's order (θ = ½:
-// second; θ = 1: first), and the quaternion stays unit, over ten seconds of tumbling through
-// every attitude (the Euler-angle base stops at pitch ±π/2).
+// The stepper on fast_spin (a quaternion base, no contact) over 42 s, five periods of the flip:
+// the body flips at Landau and Lifshitz's times (ten flips), energy and the world angular momentum
+// hold to the integrator's order (θ = ½: second, bounded at 3e-6 of E_0 over the five periods;
+// θ = 1: first, growing to 7 %), and the quaternion stays unit, tumbling through every attitude
+// (the Euler-angle base stops at pitch ±π/2).
 TEST(Analytic, StepperOnTheFastSpin) {
   const Scene scene = scene::loadScene("fast_spin", {});
   ASSERT_EQ(scene.model.base, dynamics::BaseType::FreeQuaternion);
   const Eigen::Vector3d I(0.1, 0.2, 0.3);
-  const double w2 = scene.parameters.at("spin"), w3 = scene.parameters.at("wobble");
-  const std::vector<double> flips = spinFlipTimes(I[0], I[1], I[2], w2, w3, scene.duration);
-  ASSERT_EQ(flips.size(), 2u);
+  const double w2 = scene.parameters.at("spin"), w3 = scene.parameters.at("wobble"), t_end = 42.0;
+  const std::vector<double> flips = spinFlipTimes(I[0], I[1], I[2], w2, w3, t_end);
+  ASSERT_EQ(flips.size(), 10u);
   auto momentum = [&](const TimeStepper& sim) -> Eigen::Vector3d {
     const Eigen::Vector4d Q = sim.q().segment<4>(3);
     return Eigen::Quaterniond(Q[0], Q[1], Q[2], Q[3]).toRotationMatrix() * I.cwiseProduct(sim.v().segment<3>(3));
@@ -394,7 +395,7 @@ TEST(Analytic, StepperOnTheFastSpin) {
       const Eigen::Vector3d L0 = momentum(sim);
       std::vector<double> seen;
       double largest_L = 0, largest_norm = 0;
-      while (sim.time() < scene.duration - 1e-12) {
+      while (sim.time() < t_end - 1e-12) {
         const double before = sim.v()[4];
         sim.step();
         if (before * sim.v()[4] < 0) seen.push_back(sim.time());
@@ -403,9 +404,9 @@ TEST(Analytic, StepperOnTheFastSpin) {
         largest_norm = std::max(largest_norm, std::abs(sim.q().segment<4>(3).norm() - 1));
       }
       ASSERT_EQ(seen.size(), flips.size());
-      for (std::size_t i = 0; i < flips.size(); ++i) EXPECT_NEAR(seen[i], flips[i], theta == 0.5 ? 2e-3 : 5e-3);
-      EXPECT_LT(drift[refine] / E0, theta == 0.5 ? 1e-5 : 2e-2);
-      EXPECT_LT(largest_L / L0.norm(), theta == 0.5 ? 1e-5 : 1e-2);
+      for (std::size_t i = 0; i < flips.size(); ++i) EXPECT_NEAR(seen[i], flips[i], theta == 0.5 ? 2e-3 : 5e-3) << i;
+      EXPECT_LT(drift[refine] / E0, theta == 0.5 ? 1e-5 : 0.1);
+      EXPECT_LT(largest_L / L0.norm(), theta == 0.5 ? 1e-5 : 5e-2);
       EXPECT_LT(largest_norm, 1e-14);
     }
     const double order = std::log2(drift[0] / drift[1]);
