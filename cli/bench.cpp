@@ -7,16 +7,17 @@
 //                   second, wall ns per step; stepping only, no I/O). DIR/work_precision.csv and a
 //                   log-log chart DIR/work_precision.png/.svg.
 //   stability       a grid over large time steps, high friction and high restitution (the scene's
-//                   `friction` / `restitution` parameters, where it has them); each run ends ok,
-//                   lcp_failure, nan, energy_gain or penetration. DIR/stability.csv and a grid
-//                   chart DIR/stability.png/.svg.
+//                   `friction` / `restitution` / `mass_ratio` parameters, where it has them); each
+//                   run classified by verify/run_outcome.hpp. DIR/stability.csv and a grid chart
+//                   DIR/stability.png/.svg.
 //
 //   per-step        ns per step of each engine at one dt on several built-in scenes (interleaved
 //                   rounds, fastest kept), their ratio and errors; CSV on standard output.
+//   summary         every scene and engine at once (cli/bench_summary.cpp).
 //
-// --engine saltus|bullet|both: the saltus time-stepper and/or Bullet's btMultiBodyDynamicsWorld
-// built from the same scene (verify/bullet_world.hpp, tuned settings); rows carry an `engine`
-// column. Default saltus (Bullet only on request: its runs cost 2.5–8× more per step).
+// --engine saltus|bullet|mujoco|both|all (or a comma list): the saltus time-stepper, Bullet's
+// btMultiBodyDynamicsWorld and MuJoCo built from the same scene (verify/), tuned settings; rows
+// carry an `engine` column. Default saltus.
 //
 // Charts are drawn by scripts/charts.py (python3 + matplotlib); when that fails the command
 // says so and exits 1, with the CSV written.
@@ -33,6 +34,7 @@
 #include <sstream>
 
 #include "cli/bench_runs.hpp"
+#include "cli/bench_commands.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "scene/scenario.hpp"
@@ -50,27 +52,6 @@ namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct BenchOptions {
-  std::string engine = "saltus";
-  std::string bullet_solver = "dantzig";
-  std::string scene;
-  std::vector<std::string> set;
-  std::string solver = "lemke";
-  double theta = 1.0;
-  bool no_locate_impacts = false;
-  std::optional<double> duration;
-  std::string out;
-};
-
-struct WorkPrecisionOptions : BenchOptions {
-  std::string dts = "1e-2,5e-3,2e-3,1e-3,5e-4,2e-4,1e-4";
-  double min_time = 0.2;
-};
-
-struct StabilityOptions : BenchOptions {
-  std::string dts = "1e-3,2e-3,5e-3,1e-2,2e-2,5e-2,1e-1";
-  std::optional<std::string> frictions, restitutions, mass_ratios;
-};
 
 const char* kDefaultFrictions = "0.3,0.6,1,2,5";
 const char* kDefaultRestitutions = "0,0.25,0.5,0.75,0.9,1";
@@ -89,12 +70,16 @@ void checkStepCounts(const std::string& option, const std::vector<double>& dts, 
 
 // The output folder, made when the results are ready to write (checkOutputTarget has checked
 // it before the work), so an interrupted or failed run leaves no empty folder.
-fs::path prepareOutputDirectory(const std::string& dir) {
+}  // namespace
+
+fs::path bench::prepareOutputDirectory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create the output folder (" + ec.message() + ")");
   return fs::path(dir);
 }
+
+namespace {
 
 // CSV first (already written), then the charts; stale charts of an earlier run are removed first
 // so that a failed chart step leaves none.
@@ -108,7 +93,9 @@ void drawCharts(const std::string& kind, const fs::path& csv, const fs::path& pn
 // ---------------------------------------------------------------------------------------------
 // work-precision
 
-int workPrecision(const WorkPrecisionOptions& opt) {
+}  // namespace
+
+int bench::workPrecision(const WorkPrecisionOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
   const std::vector<EngineKind> engines = parseEngineOption(opt.engine);
@@ -180,6 +167,8 @@ int workPrecision(const WorkPrecisionOptions& opt) {
             << (dir / "work_precision.svg").string() << std::endl;
   return 0;
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // per-step: the cost of one step of each engine at the same dt on several scenes, and their errors
@@ -313,7 +302,9 @@ StabilityRun stabilityRun(const Scene& scene, const EngineOptions& setup, long s
   return r;
 }
 
-int stability(const StabilityOptions& opt) {
+}  // namespace
+
+int bench::stability(const StabilityOptions& opt) {
   checkStepOptions("--theta", 1.0, opt.theta);
   const LcpMethod solver = parseSolverOption(opt.solver);
   const std::vector<EngineKind> engines = parseEngineOption(opt.engine);
@@ -411,6 +402,8 @@ int stability(const StabilityOptions& opt) {
   return 0;
 }
 
+namespace {
+
 void addCommonOptions(CLI::App* app, BenchOptions& opt) {
   app->add_option("SCENE", opt.scene, "Built-in scene name or scenario file path")->required();
   app->add_option("--set", opt.set, "Override a scene parameter: --set name=value (repeatable)")
@@ -428,170 +421,6 @@ void addCommonOptions(CLI::App* app, BenchOptions& opt) {
   app->add_option("--out", opt.out, "Output folder (created when missing)")->required();
 }
 
-
-// ---------------------------------------------------------------------------------------------
-// summary: every scene, every engine, one command
-
-struct SummaryOptions {
-  std::string scenes = "all";
-  double target = 1e-3;
-  double min_time = 0.05;
-  std::string out;
-};
-
-// The rows of a bench CSV by column name (comment lines skipped; a quoted field may hold commas).
-std::vector<std::map<std::string, std::string>> readBenchCsv(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path.string() + ": cannot read what the bench wrote");
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> fields(1);
-    bool quoted = false;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-      const char c = line[i];
-      if (c == '"') {
-        if (quoted && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-        else quoted = !quoted;
-      } else if (c == ',' && !quoted) {
-        fields.emplace_back();
-      } else {
-        fields.back() += c;
-      }
-    }
-    if (header.empty()) {
-      header = fields;
-      continue;
-    }
-    std::map<std::string, std::string> row;
-    for (std::size_t k = 0; k < header.size() && k < fields.size(); ++k) row[header[k]] = fields[k];
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
-struct SummaryRow {
-  std::string scene, engine, note;
-  double stable_dt = kNaN;  // the largest grid dt at which it and every smaller dt are ok in every cell
-  double dt_at_target = kNaN, ns_at_target = kNaN, best_error = kNaN;
-};
-
-int summary(const SummaryOptions& opt) {
-  if (!(opt.target > 0)) throw UsageError("--target: expected a positive error");
-  if (!(opt.min_time >= 0) || !std::isfinite(opt.min_time))
-    throw UsageError("--min-time: expected a non-negative number of seconds");
-  std::vector<std::string> names;
-  if (opt.scenes == "all") {
-    names = scene::builtinSceneNames();
-  } else {
-    for (std::size_t start = 0;;) {
-      const std::size_t comma = opt.scenes.find(',', start);
-      names.push_back(opt.scenes.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-  }
-  std::vector<Scene> scenes;
-  for (const std::string& name : names) {
-    try {
-      scenes.push_back(loadScene(name));
-    } catch (const std::exception& e) {
-      throw UsageError("--scenes: '" + name + "': " + e.what());
-    }
-  }
-  checkOutputTarget("--out", opt.out, OutputTarget::Folder);
-  const fs::path out(opt.out);
-  std::vector<SummaryRow> rows;
-  for (const Scene& scene : scenes) {
-    // The engines that can build the scene; the others get a row saying why not.
-    std::string list;
-    std::vector<SummaryRow> refused;
-    for (EngineKind kind : {EngineKind::Saltus, EngineKind::Bullet, EngineKind::Mujoco}) {
-      try {
-        verify::makeEngine(scene, engineSetup(kind, 1e-3, 1.0, LcpMethod::Lemke, verify::BulletSolver::MlcpDantzig, true));
-        list += (list.empty() ? "" : ",") + std::string(verify::engineName(kind));
-      } catch (const std::invalid_argument& e) {
-        SummaryRow r;
-        r.scene = scene.name;
-        r.engine = verify::engineName(kind);
-        r.note = std::string("not built: ") + e.what();
-        refused.push_back(r);
-      }
-    }
-    for (double theta : {1.0, 0.5}) {
-      const fs::path dir = theta == 1.0 ? out / scene.name : out / scene.name / "theta_half";
-      const std::string engines = theta == 1.0 ? list : "saltus";
-      StabilityOptions so;
-      so.scene = scene.name;
-      so.engine = engines;
-      so.theta = theta;
-      so.out = dir.string();
-      stability(so);
-      WorkPrecisionOptions wo;
-      wo.scene = scene.name;
-      wo.engine = engines;
-      wo.theta = theta;
-      wo.min_time = opt.min_time;
-      wo.out = dir.string();
-      workPrecision(wo);
-      const auto stab = readBenchCsv(dir / "stability.csv");
-      const auto wp = readBenchCsv(dir / "work_precision.csv");
-      for (const std::string& engine : std::vector<std::string>{"saltus", "bullet", "mujoco"}) {
-        if (engines.find(engine) == std::string::npos) continue;
-        SummaryRow r;
-        r.scene = scene.name;
-        r.engine = engine == "saltus" ? (theta == 1.0 ? "saltus θ=1" : "saltus θ=½") : engine;
-        std::map<double, bool> ok_at;  // dt -> every cell ok
-        for (const auto& row : stab)
-          if (row.at("engine") == engine) {
-            const double dt = std::stod(row.at("dt"));
-            const bool ok = row.at("outcome") == "ok";
-            ok_at[dt] = ok_at.count(dt) ? ok_at[dt] && ok : ok;
-          }
-        for (const auto& [dt, ok] : ok_at) {
-          if (!ok) break;
-          r.stable_dt = dt;
-        }
-        for (const auto& row : wp)
-          if (row.at("engine") == engine) {
-            const double dt = std::stod(row.at("dt")), error = std::stod(row.at("error"));
-            if (std::isfinite(error) && (std::isnan(r.best_error) || error < r.best_error)) r.best_error = error;
-            if (std::isfinite(error) && error <= opt.target && (std::isnan(r.dt_at_target) || dt > r.dt_at_target)) {
-              r.dt_at_target = dt;
-              r.ns_at_target = std::stod(row.at("ns_per_step"));
-            }
-          }
-        rows.push_back(r);
-      }
-    }
-    rows.insert(rows.end(), refused.begin(), refused.end());
-  }
-  const auto cell = [](double x, int digits) { return std::isnan(x) ? std::string("—") : formatNumber(x, digits); };
-  std::ostringstream csv, md;
-  csv << "# saltus bench summary: per scene and engine, the largest grid dt stable in every cell of its map "
-         "(and at every smaller dt), and the cost per step at the largest dt whose error is at most "
-      << formatNumber(opt.target) << " (work-precision); maps and charts in the scene's folder\n"
-      << "scene,engine,largest_stable_dt,dt_at_target,ns_per_step_at_target,best_error,note\n";
-  md << "| scene | engine | largest stable dt [s] | dt with error ≤ " << formatNumber(opt.target)
-     << " [s] | ns per step there | smallest error |\n| --- | --- | ---: | ---: | ---: | ---: |\n";
-  for (const SummaryRow& r : rows) {
-    csv << r.scene << "," << r.engine << "," << (std::isnan(r.stable_dt) ? "" : formatNumber(r.stable_dt)) << ","
-        << (std::isnan(r.dt_at_target) ? "" : formatNumber(r.dt_at_target)) << ","
-        << (std::isnan(r.ns_at_target) ? "" : formatNumber(r.ns_at_target, 4)) << ","
-        << (std::isnan(r.best_error) ? "" : formatNumber(r.best_error, 3)) << "," << csvField(r.note) << "\n";
-    if (!r.note.empty())
-      md << "| " << r.scene << " | " << r.engine << " | " << r.note << " | | | |\n";
-    else
-      md << "| " << r.scene << " | " << r.engine << " | " << cell(r.stable_dt, 6) << " | " << cell(r.dt_at_target, 6)
-         << " | " << cell(r.ns_at_target, 4) << " | " << cell(r.best_error, 3) << " |\n";
-  }
-  const fs::path dir = prepareOutputDirectory(opt.out);
-  writeFileAtomically((dir / "summary.csv").string(), csv.str());
-  writeFileAtomically((dir / "summary.md").string(), md.str());
-  std::cerr << "summary: wrote " << (dir / "summary.csv").string() << ", " << (dir / "summary.md").string() << std::endl;
-  return 0;
-}
 
 }  // namespace
 
