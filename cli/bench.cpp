@@ -194,13 +194,7 @@ int perStep(const PerStepOptions& opt) {
   if (opt.repeat < 1) throw UsageError("--repeat: expected a positive count");
   if (!(opt.min_time >= 0) || !std::isfinite(opt.min_time))
     throw UsageError("--min-time: expected a non-negative number of seconds");
-  std::vector<std::string> names;
-  for (std::size_t start = 0;;) {
-    const std::size_t comma = opt.scenes.find(',', start);
-    names.push_back(opt.scenes.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
+  const std::vector<std::string> names = splitCommaList(opt.scenes);
   // All scenes read before the first line of output, a bad one named under its option.
   std::vector<Scene> scenes;
   for (const std::string& name : names) {

@@ -76,12 +76,7 @@ int summary(const SummaryOptions& opt) {
   if (opt.scenes == "all") {
     names = scene::builtinSceneNames();
   } else {
-    for (std::size_t start = 0;;) {
-      const std::size_t comma = opt.scenes.find(',', start);
-      names.push_back(opt.scenes.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    names = splitCommaList(opt.scenes);
   }
   std::vector<Scene> scenes;
   for (const std::string& name : names) {

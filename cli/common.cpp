@@ -33,6 +33,16 @@ std::string trimmed(const std::string& s) {
 
 }  // namespace
 
+std::vector<std::string> splitCommaList(const std::string& text) {
+  std::vector<std::string> items;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = text.find(',', start);
+    items.push_back(trimmed(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) return items;
+    start = comma + 1;
+  }
+}
+
 dynamics::BaseType parseBaseOption(const std::string& option, const std::string& value) {
   try {
     return dynamics::parseBaseType(value);
@@ -105,15 +115,7 @@ Eigen::VectorXd parseCoordinateVector(const std::string& option, const std::stri
     return s.str();
   };
   std::vector<std::string> tokens;
-  if (!trimmed(text).empty()) {
-    std::size_t start = 0;
-    for (;;) {
-      const std::size_t comma = text.find(',', start);
-      tokens.push_back(trimmed(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-  }
+  if (!trimmed(text).empty()) tokens = splitCommaList(text);
   if (tokens.size() != n)
     throw UsageError(option + ": " + expected() + ", got " + std::to_string(tokens.size()));
   Eigen::VectorXd x(static_cast<Eigen::Index>(n));

@@ -34,6 +34,9 @@ UsageError optionError(const std::exception& e);
 // `command` is the subcommand that ran (its own subcommands are searched too).
 std::string withValueAsWritten(const CLI::App& command, const std::string& message);
 
+// The items of a comma-separated list, each trimmed of blanks ("a, b" -> {"a", "b"}; "" -> {""}).
+std::vector<std::string> splitCommaList(const std::string& text);
+
 // What an output option names (checkOutputTarget).
 enum class OutputTarget {
   File,          // a file written in one stream (CSV, JSON): a device or a pipe is written into

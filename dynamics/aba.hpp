@@ -172,36 +172,26 @@ template <class S>
 // joint force f_J = S⁻ᵀ τ balances the root's articulated body, f_J = I^A a + p^A, so
 // a = (I^A)⁻¹ (f_J − p^A) and q̈ = S⁻¹ (a − a'). Both S solves are closed form: the translation
 // columns (0; s_k) are orthonormal, and the Euler columns s_ψ = (−sθ, cθ sφ, cθ cφ),
-// s_θ = (0, cφ, −sφ), s_φ = x invert directly. Pass 2 has nothing to do for this joint.
+// s_θ = (0, cφ, −sφ), s_φ = x invert directly (a quaternion base's rotation columns are e_k).
+// Pass 2 has nothing to do for this joint.
 template <class S>
 [[gnu::noinline]] Motion<S> abaFreeRoot(const Model<S>& model, Data<S>& data, int i, const VecRef<S>& tau,
                                         const Motion<S>& ap) {
   const int k = model.first_coordinate[i];
   const Motion<S>* Scol = &data.S_joint[k];
   const S* t = tau.data() + k;
-  if (model.joint_type[i] == JointType::FreeQuaternion) {
-    // S = [(0; t_k), (e_k; 0)] with orthonormal t_k: f_J = (τ_ω; Σ t_k τ_k), q̇̇ = (t_kᵀ d_v; d_ω).
-    Vec6<S> rhs;
-    rhs << t[3], t[4], t[5], Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
-    rhs -= data.pA[i].vector();
-    Mat6<S>& L = data.D_chol[i];
-    L = data.IA[i];
-    choleskyInPlace(L, 6);
-    solveLower(L, 6, rhs.data());
-    solveUpper(L, 6, rhs.data());
-    const Motion<S> a = Motion<S>::FromVector(rhs);
-    const Motion<S> d = a - ap;
-    S* x = data.qdd.data() + k;
-    for (int c = 0; c < 3; ++c) x[c] = Scol[c].v.dot(d.v), x[3 + c] = d.w[c];
-    return a;
-  }
-  const S cr = Scol[4].w[1], sr = -Scol[4].w[2], sp = -Scol[3].w[0];
-  const S cp = Scol[3].w[1] * sr + Scol[3].w[2] * cr;
-  // f_J = S⁻ᵀ τ.
-  const S A = (t[3] + sp * t[5]) / cp;
+  const bool quaternion = model.joint_type[i] == JointType::FreeQuaternion;
+  // f_J = S⁻ᵀ τ. A quaternion base's rotation columns are e_k: its moment is τ_ω itself.
+  S cr(0), sr(0), sp(0), cp(1);
   Vec6<S> rhs;
-  rhs << t[5], sr * A + cr * t[4], cr * A - sr * t[4],
-         Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+  if (quaternion) {
+    rhs << t[3], t[4], t[5], Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+  } else {
+    cr = Scol[4].w[1], sr = -Scol[4].w[2], sp = -Scol[3].w[0];
+    cp = Scol[3].w[1] * sr + Scol[3].w[2] * cr;
+    const S A = (t[3] + sp * t[5]) / cp;
+    rhs << t[5], sr * A + cr * t[4], cr * A - sr * t[4], Scol[0].v * t[0] + Scol[1].v * t[1] + Scol[2].v * t[2];
+  }
   rhs -= data.pA[i].vector();
   // a = (I^A)⁻¹ (f_J − p^A), by Cholesky.
   Mat6<S>& L = data.D_chol[i];
@@ -214,9 +204,13 @@ template <class S>
   const Motion<S> d = a - ap;
   S* x = data.qdd.data() + k;
   for (int c = 0; c < 3; ++c) x[c] = Scol[c].v.dot(d.v);
-  x[3] = (sr * d.w[1] + cr * d.w[2]) / cp;
-  x[4] = cr * d.w[1] - sr * d.w[2];
-  x[5] = d.w[0] + sp * x[3];
+  if (quaternion) {
+    for (int c = 0; c < 3; ++c) x[3 + c] = d.w[c];
+  } else {
+    x[3] = (sr * d.w[1] + cr * d.w[2]) / cp;
+    x[4] = cr * d.w[1] - sr * d.w[2];
+    x[5] = d.w[0] + sp * x[3];
+  }
   return a;
 }
 }  // namespace detail
