@@ -15,6 +15,7 @@
 #include "cli/bench_runs.hpp"
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
+#include "scene/cleanup.hpp"
 #include "scene/scenario.hpp"
 
 namespace saltus::cli::bench {
@@ -87,7 +88,10 @@ int summary(const SummaryOptions& opt) {
     }
   }
   checkOutputTarget("--out", opt.out, OutputTarget::Folder);
-  const fs::path out(opt.out);
+  // Everything is written into a temporary folder beside --out and moved into it at the end: an
+  // interrupted or failed summary leaves no part of itself (scene::ScopedTemporary).
+  const scene::ScopedTemporary work(scene::temporaryName(fs::path(opt.out).lexically_normal().string()));
+  const fs::path out(work.path());
   std::vector<SummaryRow> rows;
   for (const Scene& scene : scenes) {
     // The engines that can build the scene; the others get a row saying why not.
@@ -172,10 +176,17 @@ int summary(const SummaryOptions& opt) {
       md << "| " << r.scene << " | " << r.engine << " | " << cell(r.stable_dt, 6) << " | " << cell(r.dt_at_target, 6)
          << " | " << cell(r.ns_at_target, 4) << " | " << cell(r.best_error, 3) << " |\n";
   }
+  writeFileAtomically((out / "summary.csv").string(), csv.str());
+  writeFileAtomically((out / "summary.md").string(), md.str());
+  // Into place: each entry replaces the one of that name an earlier summary left (and nothing else).
   const fs::path dir = prepareOutputDirectory(opt.out);
-  writeFileAtomically((dir / "summary.csv").string(), csv.str());
-  writeFileAtomically((dir / "summary.md").string(), md.str());
-  std::cerr << "summary: wrote " << (dir / "summary.csv").string() << ", " << (dir / "summary.md").string() << std::endl;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const fs::path target = dir / entry.path().filename();
+    fs::remove_all(target);
+    fs::rename(entry.path(), target);
+  }
+  std::cerr << "summary: wrote " << (dir / "summary.csv").string() << ", " << (dir / "summary.md").string()
+            << " and a folder per scene" << std::endl;
   return 0;
 }
 

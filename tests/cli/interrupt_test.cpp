@@ -123,6 +123,20 @@ TEST_F(InterruptTest, SimulateRemovesItsUnfinishedTrajectory) {
   }
 }
 
+// bench summary works in a temporary folder: interrupted between two scenes' maps, it leaves
+// neither them nor the folder.
+TEST_F(InterruptTest, BenchSummaryLeavesNoPartOfItself) {
+  const pid_t pid = start({"bench", "summary", "--scenes", "ball_drop,block_slide", "--min-time", "0", "--out",
+                           (dir_ / "summary").string()});
+  ASSERT_TRUE(waitFor([&] {
+    for (const std::string& t : temporaries())
+      if (fs::path(t).filename() == "ball_drop") return true;
+    return false;
+  }));
+  EXPECT_EQ(stop(pid, SIGTERM), 128 + SIGTERM);
+  EXPECT_TRUE(entries().empty()) << *entries().begin();
+}
+
 TEST_F(InterruptTest, AfterAKillTheNextRunRemovesTheStaleTemporary) {
   const pid_t pid = start({"simulate", "ball_drop", "--duration", "100000", "--out", (dir_ / "traj.csv").string(),
                            "--max-output-mb", "1e9"});
