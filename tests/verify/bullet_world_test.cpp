@@ -308,6 +308,16 @@ TEST(BulletWorld, PendulumOnTheBeltMissesTheExactStickingMotionAtAnyStep) {
   }
 }
 
+// The lowest θ1 (coordinate 0) of `steps` steps.
+double lowestFirstAngle(BulletWorld& world, int steps) {
+  double q_min = world.q()[0];
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    q_min = std::min(q_min, world.q()[0]);
+  }
+  return q_min;
+}
+
 TEST(BulletWorld, JointLimitStopHolds) {
   // The double pendulum of pendulum_conveyor without its belt contact, released at θ1 = 0.6 with
   // a lower stop at θ1 = 0.2: it swings down onto the stop and stays there.
@@ -317,11 +327,7 @@ TEST(BulletWorld, JointLimitStopHolds) {
   scene.limits.push_back({"theta1_lower", 0, false, 0.2, 0.0});
   scene.q0 = Eigen::Vector2d(0.6, 0.0);
   BulletWorld world(scene, worldOptions(1e-3));
-  double q_min = 1;
-  for (int i = 0; i < 1500; ++i) {
-    world.step();
-    q_min = std::min(q_min, world.q()[0]);
-  }
+  const double q_min = lowestFirstAngle(world, 1500);
   EXPECT_GT(q_min, 0.2 - 0.02);  // at most one step's worth of the impact speed past the stop
   EXPECT_LT(q_min, 0.2 + 1e-3);  // it did reach the stop
   EXPECT_LT(world.stats().max_penetration, 0.02);
@@ -329,11 +335,7 @@ TEST(BulletWorld, JointLimitStopHolds) {
   // Without the stop the pendulum swings through θ1 = −0.6.
   scene.limits.clear();
   BulletWorld free_world(scene, worldOptions(1e-3));
-  double q_min_free = 1;
-  for (int i = 0; i < 1500; ++i) {
-    free_world.step();
-    q_min_free = std::min(q_min_free, free_world.q()[0]);
-  }
+  const double q_min_free = lowestFirstAngle(free_world, 1500);
   EXPECT_LT(q_min_free, -0.3);
 }
 
@@ -348,11 +350,7 @@ TEST(BulletWorld, AStopOnALinkWithoutAColliderHolds) {
   scene.limits.push_back({"theta1_lower", 0, false, 0.2, 0.0});
   scene.q0 = Eigen::Vector2d(0.6, 0.0);
   BulletWorld world(scene, worldOptions(1e-3));
-  double q_min = 1;
-  for (int i = 0; i < 1500; ++i) {
-    world.step();
-    q_min = std::min(q_min, world.q()[0]);
-  }
+  const double q_min = lowestFirstAngle(world, 1500);
   EXPECT_GT(q_min, 0.2 - 0.02);
   EXPECT_LT(q_min, 0.2 + 1e-3);
 }
