@@ -7,6 +7,7 @@
 // before any solve starts. Run again with the same arguments, the sweep skips the solves that
 // have a record. Exit status: 0 when every solve has a record, 130 or 143 when interrupted by SIGINT or SIGTERM (the
 // summary covers the records so far), 1 for errors (a bad spec names file, line and key).
+// With --slurm the solves without a record go to a Slurm job array instead (sweep_slurm.cpp).
 #include <csignal>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
+#include "cli/sweep.hpp"
 #include "sweep/runner.hpp"
 
 namespace saltus::cli {
@@ -26,13 +28,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace saltus::sweep;
-
-struct SweepOptions {
-  std::string spec;
-  std::string out;
-  int jobs = 0;
-  bool list = false;
-};
 
 std::string duration(double seconds) {
   if (seconds < 0) return "?";
@@ -44,7 +39,9 @@ std::string duration(double seconds) {
   return o.str();
 }
 
-std::string outcome(const SweepRecord& r) {
+}  // namespace
+
+std::string sweepOutcome(const SweepRecord& r) {
   if (r.status == "error") return "error: " + r.error;
   std::ostringstream o;
   o << (r.success() ? "success" : !r.feasible ? "not feasible" : "not physical") << " (" << r.status << ", "
@@ -54,7 +51,7 @@ std::string outcome(const SweepRecord& r) {
   return o.str() + ")";
 }
 
-void printProgress(const Progress& p, bool terminal) {
+void printSweepProgress(const Progress& p, bool terminal) {
   const int left = p.total - p.done;
   if (terminal) {
     const int width = 30, filled = p.total ? width * p.done / p.total : width;
@@ -68,20 +65,22 @@ void printProgress(const Progress& p, bool terminal) {
     std::cerr << "saltus sweep: " << p.total << " solves, " << p.skipped << " with a record already\n";
     return;
   }
-  std::cerr << "[" << p.done << "/" << p.total << "] " << p.last->id << ": " << outcome(*p.last) << "; " << left
+  std::cerr << "[" << p.done << "/" << p.total << "] " << p.last->id << ": " << sweepOutcome(*p.last) << "; " << left
             << " left, ETA " << duration(p.eta_seconds) << "\n";
 }
+
+namespace {
 
 std::string quartileText(const Quartiles& q, int digits = 3) {
   if (q.count == 0) return "–";
   return formatNumber(q.median, digits) + " [" + formatNumber(q.q1, digits) + ", " + formatNumber(q.q3, digits) + "]";
 }
 
-std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases, const std::vector<SkippedCell>& skipped,
+std::string report(const std::string& spec_file, const std::vector<SweepCase>& cases, const std::vector<SkippedCell>& skipped,
                    const std::vector<SweepRecord>& records, const std::vector<CellSummary>& cells, bool charts) {
   std::ostringstream md;
-  md << "# Sweep " << fs::path(opt.spec).filename().string() << "\n\n"
-     << "Spec `" << opt.spec << "`; " << records.size() << " of " << cases.size() << " solves have a record"
+  md << "# Sweep " << fs::path(spec_file).filename().string() << "\n\n"
+     << "Spec `" << spec_file << "`; " << records.size() << " of " << cases.size() << " solves have a record"
      << (records.size() < cases.size() ? " (the sweep is not finished: run the same command again)" : "") << ".\n\n"
      << "A solve succeeds when it is feasible (Ipopt succeeded in every stage and every complementarity product is "
         "at most the problem's tolerance) and physically right (its replay in Saltus' time-stepper stays within the "
@@ -120,7 +119,7 @@ std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases,
     if (r.success()) continue;
     if (!header) md << "\n## Failed solves\n\n| solve | outcome | command |\n|---|---|---|\n";
     header = true;
-    std::string text = outcome(r);
+    std::string text = sweepOutcome(r);
     for (char& ch : text)
       if (ch == '|' || ch == '\n') ch = ' ';
     md << "| " << r.id << " | " << text << " | `" << r.command << "` |\n";
@@ -128,7 +127,54 @@ std::string report(const SweepOptions& opt, const std::vector<SweepCase>& cases,
   return md.str();
 }
 
+}  // namespace
+
+std::string writeSweepSummary(const std::string& spec, const std::string& out_dir, const std::vector<SweepCase>& cases,
+                              const std::vector<SkippedCell>& skipped, const std::vector<SweepRecord>& records) {
+  const std::vector<CellSummary> cells = summarise(records);
+  const fs::path out(out_dir);
+  writeFileAtomically((out / "summary.csv").string(), summaryCsv(cells));
+  writeFileAtomically((out / "summary.json").string(), summaryJson(cells, records).dump(2) + "\n");
+  bool charts = false;
+  std::string chart_error;
+  if (!records.empty()) {
+    try {
+      fs::create_directories(out / "charts");
+      for (const char* kind : {"time", "error", "cost"}) {
+        const std::string stem = (out / "charts" / (std::string("sweep_") + kind)).string();
+        drawChart(std::string("sweep-") + kind, (out / "summary.json").string(), stem + ".png", stem + ".svg");
+      }
+      charts = true;
+    } catch (const std::exception& e) {
+      chart_error = e.what();
+    }
+  }
+  writeFileAtomically((out / "report.md").string(), report(spec, cases, skipped, records, cells, charts));
+  return chart_error;
+}
+
+void printSweepLine(const std::string& out, std::size_t records, std::size_t cases, int ran,
+                    const std::vector<SweepRecord>& all) {
+  int successes = 0;
+  for (const SweepRecord& r : all) successes += r.success();
+  std::cerr << "saltus sweep: " << records << " of " << cases << " solves have a record";
+  if (ran >= 0) std::cerr << " (" << ran << " run now)";
+  std::cerr << ", " << successes << " succeeded -> " << (fs::path(out) / "report.md").string() << "\n";
+}
+
+namespace {
+
 int sweepCommand(const SweepOptions& opt) {
+  if (opt.spec.empty()) throw UsageError("a sweep spec (SPEC.yaml) is required, or one of: status, collect");
+  if (opt.out.empty()) throw UsageError("--out is required: the sweep's folder");
+  const bool slurm = opt.slurm || opt.script_only;
+  if (slurm && opt.jobs > 0)
+    throw UsageError("--jobs: not with --slurm (Slurm runs one solve per core; --max-parallel limits the tasks at once)");
+  if (!slurm && (!opt.submit.partition.empty() || !opt.submit.time.empty() ||
+                     !opt.submit.mem.empty() || opt.submit.max_parallel > 0 || opt.submit.solves_per_task > 0 ||
+                     !opt.submit.sbatch_args.empty()))
+    throw UsageError("--partition, --time, --mem, --max-parallel, --solves-per-task and --sbatch-arg go with "
+                     "--slurm");
   const SweepSpec spec = readSweepSpec(opt.spec);
   std::vector<SkippedCell> skipped;
   const std::vector<SweepCase> cases = expandSweep(spec, &skipped);
@@ -145,36 +191,20 @@ int sweepCommand(const SweepOptions& opt) {
     return 0;
   }
   if (fs::exists(opt.out) && !fs::is_directory(opt.out)) throw UsageError("--out " + opt.out + ": exists and is not a directory");
+  if (slurm) return submitSweep(opt, spec, cases, skipped);
+  fs::create_directories(opt.out);
+  slurm::refuseWhileActive(opt.out);  // a Slurm array of this sweep would run the same solves
+  slurm::writeSweepFolder(opt.out, {opt.spec, opt.out, fs::current_path().string()});
   RunnerOptions ro;
   ro.saltus = fs::read_symlink("/proc/self/exe").string();
   ro.jobs = opt.jobs > 0 ? opt.jobs : std::max(1u, std::thread::hardware_concurrency());
   const bool terminal = ::isatty(STDERR_FILENO);
-  const RunResult result = runSweep(spec, cases, opt.out, ro, [&](const Progress& p) { printProgress(p, terminal); });
+  const RunResult result =
+      runSweep(spec, cases, opt.out, ro, [&](const Progress& p) { printSweepProgress(p, terminal); });
   if (terminal && result.interrupted) std::cerr << "\n";
 
-  const std::vector<CellSummary> cells = summarise(result.records);
-  const fs::path out(opt.out);
-  writeFileAtomically((out / "summary.csv").string(), summaryCsv(cells));
-  writeFileAtomically((out / "summary.json").string(), summaryJson(cells, result.records).dump(2) + "\n");
-  bool charts = false;
-  std::string chart_error;
-  if (!result.records.empty()) {
-    try {
-      fs::create_directories(out / "charts");
-      for (const char* kind : {"time", "error", "cost"}) {
-        const std::string stem = (out / "charts" / (std::string("sweep_") + kind)).string();
-        drawChart(std::string("sweep-") + kind, (out / "summary.json").string(), stem + ".png", stem + ".svg");
-      }
-      charts = true;
-    } catch (const std::exception& e) {
-      chart_error = e.what();
-    }
-  }
-  writeFileAtomically((out / "report.md").string(), report(opt, cases, skipped, result.records, cells, charts));
-  int successes = 0;
-  for (const SweepRecord& r : result.records) successes += r.success();
-  std::cerr << "saltus sweep: " << result.records.size() << " of " << cases.size() << " solves have a record ("
-            << result.ran << " run now), " << successes << " succeeded -> " << (out / "report.md").string() << "\n";
+  const std::string chart_error = writeSweepSummary(opt.spec, opt.out, cases, skipped, result.records);
+  printSweepLine(opt.out, result.records.size(), cases.size(), result.ran, result.records);
   if (result.interrupted) {
     std::cerr << "saltus sweep: interrupted; run the same command again to finish\n";
     return 128 + (result.signal > 0 ? result.signal : SIGINT);  // 130 (SIGINT), 143 (SIGTERM)
@@ -190,13 +220,34 @@ int sweepCommand(const SweepOptions& opt) {
 
 Command addSweepCommand(CLI::App& saltus) {
   auto opt = std::make_shared<SweepOptions>();
-  CLI::App* app = saltus.add_subcommand("sweep", "A grid of seeded solves on local processes, with statistics and charts");
-  app->add_option("spec", opt->spec, "sweep spec (.yaml): problems, methods, set, seeds, options")->required();
-  app->add_option("--out", opt->out, "output folder (runs/<id>/record.json, summary.csv/.json, report.md, charts/)")
-      ->required();
+  CLI::App* app = saltus.add_subcommand(
+      "sweep", "A grid of seeded solves on local processes or a Slurm job array, with statistics and charts");
+  app->add_option("spec", opt->spec, "sweep spec (.yaml): problems, methods, set, seeds, options");
+  app->add_option("--out", opt->out, "output folder (runs/<id>/record.json, summary.csv/.json, report.md, charts/)");
   app->add_option("--jobs", opt->jobs, "solves at once (default: the number of cores)")->check(CLI::NonNegativeNumber);
   app->add_flag("--list", opt->list, "print the saltus optimize command of every solve and stop");
-  return {app, [opt] { return sweepCommand(*opt); }};
+  auto* slurm = app->add_option_group("Slurm", "Run the solves without a record as one Slurm job array");
+  slurm->add_flag("--slurm", opt->slurm, "submit the solves without a record as one job array (sbatch) and return");
+  slurm->add_option("--partition", opt->submit.partition, "Slurm partition (default: the cluster's)");
+  slurm->add_option("--time", opt->submit.time, "time limit of one array task, as sbatch --time (HH:MM:SS)");
+  slurm->add_option("--mem", opt->submit.mem, "memory of one array task, as sbatch --mem (e.g. 2G)");
+  slurm->add_option("--max-parallel", opt->submit.max_parallel, "array tasks running at once (the array's %K)")
+      ->check(CLI::PositiveNumber);
+  slurm->add_option("--solves-per-task", opt->submit.solves_per_task,
+                    "solves per array task (default: 1, or what fits the cluster's MaxArraySize)")
+      ->check(CLI::PositiveNumber);
+  slurm->add_option("--sbatch-arg", opt->submit.sbatch_args, "a further sbatch option, e.g. --sbatch-arg=--qos=long "
+                                                             "(repeatable; one #SBATCH line each)")
+      ->allow_extra_args(false);
+  slurm->add_flag("--slurm-script-only", opt->script_only,
+                  "write DIR/slurm/sweep.sbatch without submitting it (for clusters that need edits; implies --slurm)");
+  const std::function<bool(int&)> subcommand = addSweepSubcommands(*app);
+  app->require_subcommand(0, 1);
+  return {app, [opt, subcommand] {
+            int code = 0;
+            if (subcommand(code)) return code;
+            return sweepCommand(*opt);
+          }};
 }
 
 }  // namespace saltus::cli

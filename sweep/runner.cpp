@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,26 +52,6 @@ class SignalGuard {
 
  private:
   struct sigaction old_int_ {}, old_term_ {};
-};
-
-// flock on DIR/.lock for the lifetime of the object.
-class DirectoryLock {
- public:
-  explicit DirectoryLock(const std::string& dir) {
-    const std::string path = (fs::path(dir) / ".lock").string();
-    fd_ = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw std::runtime_error(path + ": cannot open (" + std::strerror(errno) + ")");
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      ::close(fd_);
-      throw std::runtime_error(dir + ": another saltus sweep is running in this folder");
-    }
-  }
-  ~DirectoryLock() { ::close(fd_); }
-  DirectoryLock(const DirectoryLock&) = delete;
-  DirectoryLock& operator=(const DirectoryLock&) = delete;
-
- private:
-  int fd_ = -1;
 };
 
 std::string lastLine(const std::string& path) {
@@ -129,6 +110,18 @@ void replayCheck(SweepRecord& r, const std::string& solution_dir, const ReplayCh
 }
 
 }  // namespace
+
+DirectoryLock::DirectoryLock(const std::string& dir) {
+  const std::string path = (fs::path(dir) / ".lock").string();
+  fd_ = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(path + ": cannot open (" + std::strerror(errno) + ")");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    throw std::runtime_error(dir + ": another saltus sweep is running in this folder");
+  }
+}
+
+DirectoryLock::~DirectoryLock() { ::close(fd_); }
 
 std::string shellCommand(const std::vector<std::string>& arguments) {
   std::string s;
@@ -211,7 +204,8 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
 RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
                    const RunnerOptions& options, const std::function<void(const Progress&)>& progress) {
   fs::create_directories(fs::path(out) / "runs");
-  DirectoryLock lock(out);
+  std::optional<DirectoryLock> lock;
+  if (options.lock) lock.emplace(out);
   RunResult result;
   std::vector<const SweepCase*> pending;
   Progress p;
@@ -277,6 +271,11 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
       running.erase(it);
       if (WIFSIGNALED(status) && g_interrupted) break;  // killed with us: no record
       const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      if (options.stopped_solve_leaves_no_record &&
+          (WIFSIGNALED(status) || code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGKILL)) {
+        result.stopped = job.c->id;
+        break;
+      }
       SweepRecord record = makeRecord(*job.c, job.dir, code, job.command, spec.replay);
       if (WIFSIGNALED(status)) {
         record.status = "error";
@@ -300,8 +299,8 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
   if (g_interrupted) {
     result.interrupted = true;
     result.signal = g_interrupted;
-    stopAll();
   }
+  stopAll();  // interrupted, or a solve was stopped from outside: the others go too
   result.records = readRecords(out, cases);
   return result;
 }

@@ -23,6 +23,14 @@ namespace saltus::sweep {
 struct RunnerOptions {
   std::string saltus;  // the saltus program the solves run
   int jobs = 1;        // solves at once
+  // Holds DIR/.lock while running (a local sweep). The tasks of a Slurm array share the folder and
+  // run disjoint slices of it instead (slurm.hpp).
+  bool lock = true;
+  // A solve that ends by a signal, or by a saltus child's own interrupt status (130, 137, 143),
+  // was stopped from outside (a Slurm time limit, memory limit, scancel, preemption): no record,
+  // so that a resume runs it again, and the runner stops as if interrupted. Otherwise such a solve
+  // gets an error record.
+  bool stopped_solve_leaves_no_record = false;
 };
 
 struct Progress {
@@ -37,6 +45,20 @@ struct RunResult {
   bool interrupted = false;
   int signal = 0;  // the signal that interrupted it (SIGINT, SIGTERM)
   int ran = 0;  // solves run by this call
+  std::string stopped;  // the solve stopped from outside (stopped_solve_leaves_no_record), if any
+};
+
+// flock on DIR/.lock for the lifetime of the object: one local sweep or submission per folder.
+// Throws std::runtime_error when another process holds it.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  int fd_ = -1;
 };
 
 // The folder of a case, and its record.

@@ -133,8 +133,11 @@ TEST(SweepSpec, LeavesOutTheCellsAMethodCannotRepresent) {
   std::vector<SkippedCell> skipped;
   const std::vector<SweepCase> cases = expandSweep(spec, &skipped);
   EXPECT_EQ(cases.size(), 8u);  // impulsive 2 cells, the others 1 cell each; 2 seeds
-  for (const SweepCase& c : cases)
-    if (c.method != "impulsive") EXPECT_EQ(c.set.at("restitution"), 0.0) << c.id;
+  for (const SweepCase& c : cases) {
+    if (c.method != "impulsive") {
+      EXPECT_EQ(c.set.at("restitution"), 0.0) << c.id;
+    }
+  }
   ASSERT_EQ(skipped.size(), 2u);
   EXPECT_EQ(skipped[0].method, "first-order");
   EXPECT_EQ(skipped[0].set.at("restitution"), 0.5);
