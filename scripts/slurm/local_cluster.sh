@@ -76,7 +76,7 @@ memory_per_cpu_mb=$((memory_mb / cpus))
 cat >"$dir/slurm.conf" <<CONF
 # A one-node Slurm cluster for Saltus' tests (scripts/slurm/local_cluster.sh).
 ClusterName=saltus-local
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$slurmd_port
 SlurmUser=root
@@ -107,7 +107,7 @@ MinJobAge=3600
 # A cancelled or timed-out task gets SIGTERM, then SIGKILL 5 s later.
 KillWait=5
 SchedulerParameters=sched_interval=1
-NodeName=$host CPUs=$cpus RealMemory=$memory_mb State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$memory_mb State=UNKNOWN
 PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF="$dir/slurm.conf"
