@@ -77,6 +77,17 @@ std::vector<std::string> lastLines(const std::string& path, std::size_t n) {
 int submitSweep(const SweepOptions& opt, const SweepSpec& spec, const std::vector<SweepCase>& cases,
                 const std::vector<SkippedCell>& skipped) {
   (void)spec;
+  // What an #SBATCH line cannot carry is refused before anything is written.
+  try {
+    slurm::ScriptInputs probe;
+    probe.out_absolute = absoluteFolder(opt.out);
+    probe.working_directory = fs::current_path().string();
+    probe.plan = {1, 1, 1};
+    probe.options = opt.submit;
+    slurm::sbatchScript(probe);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   fs::create_directories(fs::path(opt.out) / "slurm" / "logs");
   DirectoryLock lock(opt.out);  // no local sweep in the folder while submitting
   slurm::refuseWhileActive(opt.out);

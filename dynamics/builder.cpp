@@ -125,7 +125,7 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
   for (int l = 0; l < nl; ++l) {
     if (links_[l].name.empty()) fail("a link has an empty name");
     if (!link_of.emplace(links_[l].name, l).second) fail("link '" + links_[l].name + "' is defined twice");
-    if (links_[l].has_inertial) {
+    if (links_[l].has_inertial && !links_[l].declared_massless) {
       const std::string why = checkInertia(links_[l].mass, links_[l].inertia_com, true);
       if (!why.empty()) fail("link '" + links_[l].name + "': " + why);
       if (!links_[l].com.allFinite()) fail("link '" + links_[l].name + "': centre of mass is not finite");
@@ -268,10 +268,16 @@ Model<double> ModelBuilder::build(BaseType base, const Eigen::Vector3d& gravity)
   }
   for (int b = 0; b < nb; ++b) {
     const int l = moving_link_of_body[b];
-    if (l >= 0 && !has_inertial[b] && (require_inertials_ || !(subtree_mass[b] > 0)))
+    if (l < 0) continue;
+    if (!has_inertial[b] && require_inertials_)
       fail("link '" + links_[l].name + "' moves (joint '" + bodies[b].coordinate_names.front() +
-           "') but neither it nor any link fixed to it has an <inertial> element" +
-           (require_inertials_ ? "" : ", and no body below it has mass"));
+           "') but neither it nor any link fixed to it has an <inertial> element");
+    // A massless moving body (no inertial, or one declared with mass 0) needs mass below it: a
+    // massless leaf would make the mass matrix singular.
+    if (!(subtree_mass[b] > 0))
+      fail("link '" + links_[l].name + "' moves (joint '" + bodies[b].coordinate_names.front() +
+           "') but " + (has_inertial[b] ? "its <inertial> has no mass" : "has no <inertial> element") +
+           ", and no body below it has mass");
   }
 
   for (int b = 0; b < nb; ++b) {

@@ -24,6 +24,9 @@ enum class LinkJointType { Revolute, Continuous, Prismatic, Fixed };
 struct LinkSpec {
   std::string name;
   bool has_inertial = false;  // a link without inertial data is massless
+  // An inertial of mass 0 and inertia 0 given on purpose (a URDF's massless cross of a two-axis
+  // joint): not refused as a non-positive mass, but still needs mass below it (build()).
+  bool declared_massless = false;
   double mass = 0;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();         // in the link frame
   Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();  // rotational inertia about the com, link axes

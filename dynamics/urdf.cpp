@@ -231,8 +231,11 @@ LinkSpec toLinkSpec(const urdf::Link& link, const UrdfText& text) {
     I_I << in.ixx, in.ixy, in.ixz,
            in.ixy, in.iyy, in.iyz,
            in.ixz, in.iyz, in.izz;
-    // In a URDF a zero or singular inertia is an error: point masses are for the builder API.
-    const std::string why = checkInertia(in.mass, I_I, /*allow_point_mass=*/false);
+    // In a URDF a zero or singular inertia is an error: point masses are for the builder API. The
+    // one exception is a link declared massless, mass 0 and inertia 0 (the cross of a two-axis
+    // joint), which the builder accepts only where a body below it has mass.
+    const bool declared_massless = in.mass == 0 && I_I.isZero(0);
+    const std::string why = declared_massless ? "" : checkInertia(in.mass, I_I, /*allow_point_mass=*/false);
     if (!why.empty()) {
       const bool mass = why.rfind("mass", 0) == 0;
       const std::string element = mass ? "inertial/mass" : "inertial/inertia";
@@ -243,6 +246,7 @@ LinkSpec toLinkSpec(const urdf::Link& link, const UrdfText& text) {
     // Link frame L: com at the inertial origin, I_L = R_LI I_I R_LIᵀ.
     const Eigen::Matrix3d R_LI = toRotation(in.origin.rotation);
     spec.has_inertial = true;
+    spec.declared_massless = declared_massless;
     spec.mass = in.mass;
     spec.com = toVector(in.origin.position);
     spec.inertia_com = R_LI * I_I * R_LI.transpose();

@@ -145,4 +145,73 @@ TEST(CliSweep, BadSpecIsRefusedBeforeAnySolve) {
   fs::remove_all(dir);
 }
 
+TEST(CliSweep, SlurmScriptOnlyWritesTheBatchScriptWithoutACluster) {
+  const fs::path dir = sweepDir("script_only");
+  writeSpec(dir / "spec.yaml", 3);
+  const std::string spec = (dir / "spec.yaml").string(), out = (dir / "out").string();
+  // Slurm is not asked: this works on a machine without it (PATH without sbatch).
+  const auto r = runSaltus({"sweep", spec, "--out", out, "--slurm-script-only", "--time", "00:10:00", "--mem", "1G",
+                            "--max-parallel", "2", "--sbatch-arg=--qos=short"},
+                           "PATH=/nonexistent");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, (fs::path(out) / "slurm/sweep.sbatch").string() + "\n");
+  const std::string script = readFile(dir / "out/slurm/sweep.sbatch");
+  for (const char* line : {"#SBATCH --array=0-2%2\n", "#SBATCH --time=00:10:00\n", "#SBATCH --mem=1G\n",
+                           "#SBATCH --qos=short\n", " sweep task "})
+    EXPECT_NE(script.find(line), std::string::npos) << line << "\n" << script;
+  const std::string cases = readFile(dir / "out/slurm/cases-1.txt");
+  EXPECT_EQ(std::count(cases.begin(), cases.end(), '\n'), 3);
+  EXPECT_FALSE(fs::exists(dir / "out/slurm/jobs.json"));  // nothing was submitted
+
+  // Task 1 of the script, run by hand as Slurm would: the second solve of the list, and its record.
+  const std::string second = cases.substr(cases.find('\n') + 1, cases.find('\n', cases.find('\n') + 1) - cases.find('\n') - 1);
+  const auto task = runSaltus({"sweep", "task", spec, "--out", out, "--cases", (dir / "out/slurm/cases-1.txt").string(),
+                               "--solves-per-task", "1", "--index", "1"});
+  ASSERT_EQ(task.status, 0) << task.err;
+  EXPECT_EQ(records(dir / "out").size(), 1u);
+  EXPECT_TRUE(fs::exists(dir / "out/runs" / second / "record.json")) << second;
+
+  // status and collect read the folder; collect says what is missing.
+  const auto status = runSaltus({"sweep", "status", out, "--json"}, "PATH=/nonexistent");
+  ASSERT_EQ(status.status, 0) << status.err;
+  const nlohmann::json s = nlohmann::json::parse(status.out);
+  EXPECT_EQ(s["solves"], 3);
+  EXPECT_EQ(s["records"], 1);
+  EXPECT_EQ(s["without_record"], 2);
+  const auto collect = runSaltus({"sweep", "collect", out});
+  EXPECT_EQ(collect.status, 1);
+  EXPECT_NE(collect.err.find("2 solve(s) have no record yet"), std::string::npos) << collect.err;
+  EXPECT_TRUE(fs::exists(dir / "out/report.md"));
+  fs::remove_all(dir);
+}
+
+TEST(CliSweep, SlurmOptionsAndSubcommandsRefuseWhatTheyCannotDo) {
+  const fs::path dir = sweepDir("slurm_usage");
+  writeSpec(dir / "spec.yaml", 1);
+  const std::string spec = (dir / "spec.yaml").string(), out = (dir / "out").string();
+  const auto jobs = runSaltus({"sweep", spec, "--out", out, "--slurm", "--jobs", "4"});
+  EXPECT_EQ(jobs.status, 2);
+  EXPECT_NE(jobs.err.find("--jobs: not with --slurm"), std::string::npos) << jobs.err;
+  const auto partition = runSaltus({"sweep", spec, "--out", out, "--partition", "short"});
+  EXPECT_EQ(partition.status, 2);
+  EXPECT_NE(partition.err.find("go with --slurm"), std::string::npos) << partition.err;
+  const auto no_out = runSaltus({"sweep", spec});
+  EXPECT_EQ(no_out.status, 2);
+  EXPECT_NE(no_out.err.find("--out is required"), std::string::npos) << no_out.err;
+  const auto not_sweep = runSaltus({"sweep", "status", (dir / "nowhere").string()});
+  EXPECT_EQ(not_sweep.status, 1);
+  EXPECT_NE(not_sweep.err.find("not a sweep folder (no sweep.json"), std::string::npos) << not_sweep.err;
+  const auto blank = runSaltus({"sweep", spec, "--out", (dir / "with space").string(), "--slurm-script-only"});
+  EXPECT_EQ(blank.status, 2);
+  EXPECT_NE(blank.err.find("an #SBATCH line cannot carry"), std::string::npos) << blank.err;
+  EXPECT_FALSE(fs::exists(dir / "with space"));
+  // Without Slurm installed, a submission says so.
+  const auto none = runSaltus({"sweep", spec, "--out", out, "--slurm"}, "PATH=/nonexistent");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.err.find("is Slurm installed (sbatch in PATH)?"), std::string::npos) << none.err;
+  EXPECT_FALSE(fs::exists(dir / "out/slurm/sweep.sbatch"));
+  EXPECT_FALSE(fs::exists(dir / "out/slurm/cases-1.txt"));
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -118,6 +118,48 @@ TEST(UrdfErrors, NonPositiveMass) {
   EXPECT_HAS(what, "mass must be positive");
 }
 
+// A two-axis (Hooke) joint: roll about x, then pitch about y, through a cross declared massless
+// (mass 0, inertia 0). An arm of mass m, com l below the joint, inertia diag(Ixx, Iyy, Izz) about
+// its com: M = diag(Ixx + m l², Iyy + m l²) hanging down; pitched by π/2 the arm lies along the
+// roll axis, so the roll sees only Izz.
+std::string hookeJoint(const std::string& cross_inertial, bool arm = true) {
+  return "<robot name=\"hooke\"><link name=\"base\"/>"
+         "<link name=\"cross\">" + cross_inertial + "</link>" +
+         (arm ? "<link name=\"arm\"><inertial><origin xyz=\"0 0 -0.5\"/><mass value=\"2\"/>"
+                "<inertia ixx=\"0.3\" ixy=\"0\" ixz=\"0\" iyy=\"0.25\" iyz=\"0\" izz=\"0.06\"/></inertial></link>"
+              : "") +
+         "<joint name=\"roll\" type=\"continuous\"><parent link=\"base\"/><child link=\"cross\"/><axis xyz=\"1 0 0\"/></joint>" +
+         (arm ? "<joint name=\"pitch\" type=\"continuous\"><parent link=\"cross\"/><child link=\"arm\"/><axis xyz=\"0 1 0\"/></joint>"
+              : "") +
+         "</robot>";
+}
+
+TEST(Urdf, ADeclaredMasslessCrossCarriesATwoAxisJoint) {
+  const std::string massless = "<inertial><mass value=\"0\"/><inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/></inertial>";
+  const Model<double> model = loadUrdfString(hookeJoint(massless), BaseType::Fixed, "hooke.urdf");
+  ASSERT_EQ(model.nv(), 2);
+  Data<double> data(model);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
+  Eigen::MatrixXd M = crba(model, data, q);  // both triangles
+  EXPECT_NEAR(M(0, 0), 0.3 + 2 * 0.25, 1e-12);
+  EXPECT_NEAR(M(1, 1), 0.25 + 2 * 0.25, 1e-12);
+  EXPECT_NEAR(M(0, 1), 0.0, 1e-12);
+  q << 0.3, M_PI / 2;
+  M = crba(model, data, q);
+  EXPECT_NEAR(M(0, 0), 0.06, 1e-12);  // the arm along the roll axis: its own Izz only
+  EXPECT_NEAR(M(1, 1), 0.25 + 2 * 0.25, 1e-12);
+
+  // Declared massless with nothing below: the mass matrix would be singular.
+  const std::string leaf = errorOf([&] { loadUrdfString(hookeJoint(massless, false), BaseType::Fixed, "leaf.urdf"); });
+  EXPECT_HAS(leaf, "link 'cross' moves (joint 'roll') but its <inertial> has no mass, and no body below it has mass");
+  // Mass 0 with an inertia is no declaration: still refused.
+  const std::string half = errorOf([&] {
+    loadUrdfString(hookeJoint("<inertial><mass value=\"0\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>"),
+                   BaseType::Fixed, "half.urdf");
+  });
+  EXPECT_HAS(half, "mass must be positive");
+}
+
 TEST(UrdfErrors, InertiaNotPositiveDefinite) {
   const std::string what = loadError("inertia_not_positive_definite.urdf");
   EXPECT_HAS(what, "link 'forearm': inertia is not positive definite (principal moments");

@@ -24,6 +24,7 @@
 
 #include "dynamics/dynamics.hpp"
 #include "dynamics/urdf.hpp"
+#include "saltus/build_paths.hpp"
 #include "tests/support/free_body.hpp"
 #include "tests/support/random_urdf.hpp"
 #include "verify/bullet_multibody.hpp"
@@ -284,6 +285,28 @@ TEST(BulletDynamics, RandomUrdfFreeBaseVirtualLinks) {
 
 TEST(BulletDynamics, RandomUrdfPlanarBase) {
   randomRobots(BaseType::Planar, FreeBase::Native, 3000, "planar base (massless Bullet links)");
+}
+
+// The legged benchmarks' models (models/biped, models/monopod) against Bullet at random states:
+// the planar biped on its planar base, the monopod on its free base with its massless Hooke cross.
+TEST(BulletDynamics, LeggedBenchmarkModelsAgreeAtRandomStates) {
+  const struct {
+    const char* file;
+    BaseType base;
+  } models[] = {{"/models/biped/biped.urdf", BaseType::Planar}, {"/models/monopod/monopod.urdf", BaseType::Free}};
+  for (const auto& m : models) {
+    const Model<double> model = loadUrdfFile(std::string(SALTUS_SOURCE_DIR) + m.file, m.base);
+    BulletMultiBody bullet(model, FreeBase::Native);
+    std::mt19937 rng(6000);
+    double worst = 0;
+    for (int trial = 0; trial < 50; ++trial) {
+      const State s = randomState(rng, model);
+      const Comparison c = compare(model, bullet, s);
+      EXPECT_LE(c.relative(), kRelTol) << m.file << ", trial " << trial;
+      worst = std::max(worst, c.relative());
+    }
+    std::printf("[ worst    ] %s: ‖Δq̈‖∞/scale %.2g\n", m.file, worst);
+  }
 }
 
 // The URDF reader and the builder given the same robot produce the same model (up to the order
