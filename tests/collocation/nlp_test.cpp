@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 
+#include "collocation/problem_file.hpp"
 #include "scene/scenario.hpp"
 #include "tests/support/problems.hpp"
 
@@ -92,6 +93,23 @@ TEST(NlpDerivatives, ConveyorFirstOrder) {
   p.N = 1;
   checkDerivatives(p, Method::FirstOrder);
 }
+
+// The legged benchmarks on two elements of two points: the planar biped (9 coordinates, two feet
+// with friction, 12 joint-limit stops on a floating base, six bounded inputs, minimise_max) and the
+// spatial monopod (a free Euler base, one foot with a k = 4 cone, stops on a floating base, effort).
+Problem smallLegged(const std::string& name) {
+  Problem p = loadProblem(name);
+  // The monopod's midpoint waypoint ([13, 0]) is not on a two-element mesh.
+  std::erase_if(p.bounds, [&](const PointBound& b) { return b.element >= 2 && b.element < p.N - 1; });
+  remesh(p, 2, 2);
+  return p;
+}
+TEST(NlpDerivatives, BipedStopImpulsive) { checkDerivatives(smallLegged("biped_stop"), Method::Impulsive); }
+TEST(NlpDerivatives, BipedStopContinuous) { checkDerivatives(smallLegged("biped_stop"), Method::Continuous); }
+TEST(NlpDerivatives, BipedStopFirstOrder) { checkDerivatives(smallLegged("biped_stop"), Method::FirstOrder); }
+TEST(NlpDerivatives, MonopodTurnImpulsive) { checkDerivatives(smallLegged("monopod_turn"), Method::Impulsive); }
+TEST(NlpDerivatives, MonopodTurnContinuous) { checkDerivatives(smallLegged("monopod_turn"), Method::Continuous); }
+TEST(NlpDerivatives, MonopodTurnFirstOrder) { checkDerivatives(smallLegged("monopod_turn"), Method::FirstOrder); }
 
 // A point against a plane on a turning body: the contact frame's derivatives enter every
 // contact row (equations of motion, gap, slip, restitution).
