@@ -61,7 +61,7 @@ class ProblemReader {
   void readConditions(const YAML::Node& map, const std::string& path, int element, int point,
                       std::vector<PointBound>& out);
   void readPointConditions(const YAML::Node& node, const std::string& path, std::vector<PointBound>& out);
-  std::pair<int, int> readAt(const YAML::Node& entry, const std::string& path);
+  std::pair<int, int> readAt(const YAML::Node& entry, const std::string& path, const std::string& key = "at");
   void readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root);
   void readCost(const YAML::Node& node);
   void readSolve(const YAML::Node& node);
@@ -287,9 +287,9 @@ void ProblemReader::readConditions(const YAML::Node& map, const std::string& pat
 
 // `at: [n, p]` of a list entry: 1-based element n ∈ [1, N], point p ∈ [0, P + 1]; returns the
 // 0-based element and the point.
-std::pair<int, int> ProblemReader::readAt(const YAML::Node& entry, const std::string& path) {
-  const YAML::Node at = r_.required(entry, path, "at");
-  const std::string apath = keyPath(path, "at");
+std::pair<int, int> ProblemReader::readAt(const YAML::Node& entry, const std::string& path, const std::string& key) {
+  const YAML::Node at = r_.required(entry, path, key);
+  const std::string apath = keyPath(path, key);
   if (!at.IsSequence() || at.size() != 2)
     r_.fail(at, apath, "expected [element, point], e.g. [6, 0] (elements numbered from 1 as in the paper), got " +
                            (at.IsSequence() ? "a sequence of " + std::to_string(at.size()) : describe(at)));
@@ -307,15 +307,38 @@ std::pair<int, int> ProblemReader::readAt(const YAML::Node& entry, const std::st
 void ProblemReader::readPointConditions(const YAML::Node& node, const std::string& path, std::vector<PointBound>& out) {
   if (!node.IsDefined()) return;
   r_.checkSequence(node, path);
-  std::vector<std::string> keys = {"at"};
+  std::vector<std::string> keys = {"at", "from", "to"};
   keys.insert(keys.end(), kConditionKeys.begin(), kConditionKeys.end());
   for (std::size_t j = 0; j < node.size(); ++j) {
     const YAML::Node e = node[j];
     const std::string p = indexPath(path, j);
     r_.checkMap(e, p, keys);
-    const auto [element, point] = readAt(e, p);
-    if (e.size() < 2) r_.fail(e, p, "nothing to impose at this point: give one or more of q, v, u, gap");
-    readConditions(e, p, element, point, out);
+    // One point (`at`), or every point from `from` through `to` (both included).
+    const bool range = e["from"].IsDefined() || e["to"].IsDefined();
+    if (range && e["at"].IsDefined())
+      r_.fail(e["at"], keyPath(p, "at"), "give either at: [n, p] or from: [n, p] and to: [n, p], not both");
+    const std::size_t placement = range ? 2 : 1;
+    if (e.size() <= placement)
+      r_.fail(e, p, std::string("nothing to impose at ") + (range ? "these points" : "this point") +
+                        ": give one or more of q, v, u, gap");
+    if (!range) {
+      const auto [element, point] = readAt(e, p);
+      readConditions(e, p, element, point, out);
+      continue;
+    }
+    const auto [n1, p1] = readAt(e, p, "from");
+    const auto [n2, p2] = readAt(e, p, "to");
+    if (n2 < n1 || (n2 == n1 && p2 < p1))
+      r_.fail(e["to"], keyPath(p, "to"), "[" + std::to_string(n2 + 1) + ", " + std::to_string(p2) + "] comes before from: [" +
+                                             std::to_string(n1 + 1) + ", " + std::to_string(p1) + "]");
+    for (int n = n1; n <= n2; ++n) {
+      const int first = n == n1 ? p1 : 0, last = n == n2 ? p2 : p_.P + 1;
+      if (first == 0 && last == p_.P + 1) {
+        readConditions(e, p, n, -1, out);  // the whole element
+      } else {
+        for (int pt = first; pt <= last; ++pt) readConditions(e, p, n, pt, out);
+      }
+    }
   }
 }
 

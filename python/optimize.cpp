@@ -62,7 +62,7 @@ void bindOptimize(py::module_& m) {
       "load_problem",
       [](const std::string& name, const Parameters& set) { return std::make_shared<collocation::Problem>(loadProblem(name, set)); },
       py::arg("name"), py::arg("set") = Parameters{},
-      "A built-in problem (point_mass_drop, point_mass_throw, pendulum_conveyor) or a problem file, with "
+      "A built-in problem (point_mass_drop, point_mass_throw, pendulum_conveyor, biped_stop, monopod_turn) or a problem file, with "
       "parameter overrides. Bad files raise ValueError naming file, line and key.");
 
   py::class_<SolutionHandle, std::shared_ptr<SolutionHandle>>(m, "Solution", "An optimised trajectory.")

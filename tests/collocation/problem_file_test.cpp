@@ -84,7 +84,7 @@ TEST(Method, UnknownNameListsTheValidOnes) {
 
 TEST(ProblemFile, BuiltinNames) {
   EXPECT_EQ(builtinProblemNames(),
-            (std::vector<std::string>{"pendulum_conveyor", "point_mass_drop", "point_mass_throw"}));
+            (std::vector<std::string>{"biped_stop", "monopod_turn", "pendulum_conveyor", "point_mass_drop", "point_mass_throw"}));
 }
 
 TEST(ProblemFile, PointMassDrop) {
@@ -258,6 +258,31 @@ TEST(ProblemFile, DefaultsAndTheNullSeed) {
   EXPECT_TRUE(p.scene.contacts.empty());
 }
 
+// A condition on a range of points (`from`, `to`): the monopod keeps y ≤ 0 from [1, 0] through
+// [13, 0], i.e. on the whole of elements 1 to 12 and at the first point of element 13, and nowhere after.
+TEST(ProblemFile, ARangeOfPointsCoversWholeElementsAndItsEnds) {
+  const Problem p = loadProblem("monopod_turn");
+  const int y = p.scene.model.coordinateIndex("base_y");
+  std::vector<std::pair<int, int>> at;
+  for (const PointBound& b : p.bounds)
+    if (b.quantity.kind == Quantity::Kind::Position && b.quantity.index == y && b.upper == 0 && b.lower == -kInf)
+      at.emplace_back(b.element, b.point);
+  std::vector<std::pair<int, int>> expected;
+  for (int n = 0; n < 12; ++n) expected.emplace_back(n, -1);
+  expected.emplace_back(12, 0);
+  EXPECT_EQ(at, expected);
+  // The same range inside one element: single points.
+  const std::string path = ::testing::TempDir() + "range_in_one_element.yaml";
+  std::ofstream(path) << "model:\n  point_mass: {mass: 1, link: ball, axes: {x: [1, 0, 0]}}\n"
+                         "mesh: {N: 4, P: 3, h_max: 0.02}\nconstraints:\n  - {from: [2, 1], to: [2, 3], q: {x: [0, 1]}}\n";
+  const Problem one = loadProblem(path);
+  ASSERT_EQ(one.bounds.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(one.bounds[k].element, 1);
+    EXPECT_EQ(one.bounds[k].point, k + 1);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Every key, on tests/data/problems/full.yaml
 
@@ -426,6 +451,12 @@ TEST(ProblemFileErrors, ElementOutOfRange) {
 }
 TEST(ProblemFileErrors, PointOutOfRange) {
   expectError("point_out_of_range.yaml", "hints[0].at", {"point 5 is not in [0, 4]"});
+}
+TEST(ProblemFileErrors, RangeThatRunsBackwards) {
+  expectError("range_backwards.yaml", "constraints[0].to", {"[5, 1] comes before from: [5, 2]"});
+}
+TEST(ProblemFileErrors, RangeAndAtTogether) {
+  expectError("range_and_at.yaml", "constraints[0].at", {"either at: [n, p] or from: [n, p] and to: [n, p]"});
 }
 TEST(ProblemFileErrors, SurfaceStepNotAtAMeshPoint) {
   expectError("surface_step_not_mesh_point.yaml", "surface_velocity.belt[1].at", {"[n, 0]", "got point 2"});
