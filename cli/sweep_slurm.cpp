@@ -204,12 +204,6 @@ int statusCommand(const StatusOptions& opt) {
   const slurm::SweepFolder folder = slurm::readSweepFolder(opt.out);
   const SweepSpec spec = readSweepSpec(folder.specPath());
   const std::vector<SweepCase> cases = expandSweep(spec);
-  const std::vector<SweepRecord> records = readRecords(opt.out, cases);
-  std::set<std::string> with_record;
-  int succeeded = 0;
-  for (const SweepRecord& r : records) with_record.insert(r.id), succeeded += r.success();
-  const int failed = static_cast<int>(records.size()) - succeeded;
-
   // The arrays: those saltus submitted, and those whose tasks wrote a log (a script submitted by hand).
   const std::vector<slurm::Submission> submissions = slurm::readSubmissions(opt.out);
   std::vector<std::string> job_ids;
@@ -227,6 +221,14 @@ int statusCommand(const StatusOptions& opt) {
   const std::vector<slurm::TaskState> tasks = slurm::queryTasks(job_ids, &source);
   std::map<std::string, int> groups;
   for (const slurm::TaskState& t : tasks) ++groups[slurm::stateGroup(t.state)];
+  // The records after Slurm's states: a task Slurm saw finished wrote its records before it
+  // ended, so they are all read here (read before, a task ending in between would show as
+  // finished without its record).
+  const std::vector<SweepRecord> records = readRecords(opt.out, cases);
+  std::set<std::string> with_record;
+  int succeeded = 0;
+  for (const SweepRecord& r : records) with_record.insert(r.id), succeeded += r.success();
+  const int failed = static_cast<int>(records.size()) - succeeded;
 
   // Tasks that ended without leaving a record for every solve of theirs: run again on resume.
   struct Unfinished {
