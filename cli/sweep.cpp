@@ -191,7 +191,7 @@ int sweepCommand(const SweepOptions& opt) {
     return 0;
   }
   if (fs::exists(opt.out) && !fs::is_directory(opt.out)) throw UsageError("--out " + opt.out + ": exists and is not a directory");
-  if (slurm) return submitSweep(opt, spec, cases, skipped);
+  if (slurm) return submitSweep(opt, cases, skipped);
   fs::create_directories(opt.out);
   slurm::refuseWhileActive(opt.out);  // a Slurm array of this sweep would run the same solves
   slurm::writeSweepFolder(opt.out, {opt.spec, opt.out, fs::current_path().string()});

@@ -44,7 +44,7 @@ std::string sweepOutcome(const sweep::SweepRecord& r);
 void printSweepProgress(const sweep::Progress& p, bool terminal);
 
 // sweep_slurm.cpp: `saltus sweep SPEC --out DIR --slurm`, and the subcommands that follow it.
-int submitSweep(const SweepOptions& opt, const sweep::SweepSpec& spec, const std::vector<sweep::SweepCase>& cases,
+int submitSweep(const SweepOptions& opt, const std::vector<sweep::SweepCase>& cases,
                 const std::vector<sweep::SkippedCell>& skipped);
 // Registers `sweep status`, `sweep collect` and (for the batch script) `sweep task` under `sweep`;
 // the returned function runs the one that was given and returns false when none was.

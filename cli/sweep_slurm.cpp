@@ -74,9 +74,7 @@ std::vector<std::string> lastLines(const std::string& path, std::size_t n) {
 
 }  // namespace
 
-int submitSweep(const SweepOptions& opt, const SweepSpec& spec, const std::vector<SweepCase>& cases,
-                const std::vector<SkippedCell>& skipped) {
-  (void)spec;
+int submitSweep(const SweepOptions& opt, const std::vector<SweepCase>& cases, const std::vector<SkippedCell>& skipped) {
   // What an #SBATCH line cannot carry is refused before anything is written.
   try {
     slurm::ScriptInputs probe;
