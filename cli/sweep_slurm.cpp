@@ -233,16 +233,22 @@ int statusCommand(const StatusOptions& opt) {
     slurm::TaskState task;
     std::vector<std::string> solves, log;
   };
+  // Each submission's list of solves, read once (a status of 600 tasks reads it once, not 600 times).
+  std::map<std::string, std::vector<std::string>> listed;
+  for (const slurm::Submission& s : submissions) {
+    std::ifstream in(s.cases_file);
+    for (std::string line; std::getline(in, line);) listed[s.job_id].push_back(line);
+  }
   std::vector<Unfinished> unfinished;
   for (const slurm::TaskState& t : tasks) {
     if (slurm::isActive(t.state)) continue;
     for (const slurm::Submission& s : submissions) {
       if (s.job_id != t.job_id) continue;
-      std::ifstream in(s.cases_file);
-      std::string line;
+      const std::vector<std::string>& ids = listed[s.job_id];
       std::vector<std::string> missing;
-      for (long n = 0; std::getline(in, line); ++n)
-        if (n / s.plan.solves_per_task == t.task && !with_record.count(line)) missing.push_back(line);
+      const std::size_t first = static_cast<std::size_t>(t.task) * s.plan.solves_per_task;
+      for (std::size_t n = first; n < ids.size() && n < first + s.plan.solves_per_task; ++n)
+        if (!with_record.count(ids[n])) missing.push_back(ids[n]);
       if (missing.empty()) continue;
       const std::string log = (logs / (t.job_id + "_" + std::to_string(t.task) + ".log")).string();
       unfinished.push_back({t, missing, lastLines(log, 4)});
