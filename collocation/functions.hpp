@@ -169,22 +169,27 @@ struct PlaneCoordinate {
 
 // Restitution at an element boundary, paper eq. (9a):
 //   a⁺ − a⁻ − ẏ[n, 0] − e ẏ[n−1, P+1] = 0   (ẏ[n, 0] after the jump, ẏ[n−1, P+1] before it)
-// Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻.
+// Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻; without the state before when e = 0
+// (`before` false), where its term is zero: half the inputs and a quarter of the Hessian's work
+// (one side's kinematics per sweep, half the sweeps). A joint stop's balance is linear
+// (ẏ = ±q̇_i) and is not this functor (Transcription::buildContactConstraints).
 struct RestitutionBalance {
   const ModelSet* models;
   const ContactPair* contact;
-  int inputs() const { return 4 * models->model<double>().nv() + 2; }
+  bool before = true;
+  int sides() const { return before ? 2 : 1; }
+  int inputs() const { return 2 * sides() * models->model<double>().nv() + 2; }
   int outputs() const { return 1; }
-  // ẏ = nᵀ J(q) q̇ (contact::normalVelocity) is linear in q̇ for fixed q: only the two q's are nonlinear.
+  // ẏ = nᵀ J(q) q̇ (contact::normalVelocity) is linear in q̇ for fixed q: only the q's are nonlinear.
   bool nonlinear(int i) const {
     const int n = models->model<double>().nv();
-    return i < n || (i >= 2 * n && i < 3 * n);
+    return i < n || (before && i >= 2 * n && i < 3 * n);
   }
   // The two sides do not mix and a⁺, a⁻ enter with constant coefficients: the pairs within
   // (q, q̇) after and within (q, q̇) before.
   bool pairByAd(int i, int j) const {  // i ≥ j
     const int n = models->model<double>().nv();
-    return (j < n && i < 2 * n) || (j >= 2 * n && j < 3 * n && i < 4 * n);
+    return (j < n && i < 2 * n) || (before && j >= 2 * n && j < 3 * n && i < 4 * n);
   }
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -192,10 +197,13 @@ struct RestitutionBalance {
     const auto& model = models->model<S>();
     auto& data = models->data<S>();
     dynamics::forwardVelocities(model, data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
-    const S after = contact::normalVelocity(*contact, data, x + n);
-    dynamics::forwardVelocities(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
-    const S before = contact::normalVelocity(*contact, data, x + 3 * n);
-    y[0] = x[4 * n] - x[4 * n + 1] - after - S(contact->restitution) * before;
+    y[0] = -contact::normalVelocity(*contact, data, x + n);
+    if (before) {
+      dynamics::forwardVelocities(model, data, ConstMap<S>(x + 2 * n, n), ConstMap<S>(x + 3 * n, n));
+      y[0] -= S(contact->restitution) * contact::normalVelocity(*contact, data, x + 3 * n);
+    }
+    const S* a = x + 2 * sides() * n;
+    y[0] += a[0] - a[1];
   }
 };
 

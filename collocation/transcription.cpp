@@ -277,14 +277,28 @@ void Transcription::buildContactConstraints(int n) {
     // (9) at an impulsive [n, 0].
     if (C.a_plus >= 0) {
       const ElementLayout& prev = layout_[n - 1];
-      std::vector<int> vars = range(L.points[0].q, nv_);
-      for (int v : range(L.points[0].v, nv_)) vars.push_back(v);
-      for (int v : range(prev.points[prev.end].q, nv_)) vars.push_back(v);
-      for (int v : range(prev.points[prev.end].v, nv_)) vars.push_back(v);
-      vars.push_back(C.a_plus);
+      const ElementLayout::Point &after = L.points[0], &before = prev.points[prev.end];
+      std::vector<int> vars;
+      if (cp.isStop()) {
+        // ẏ = sign·q̇_i (contact::normalVelocity of a stop): (9a) is linear in four variables.
+        vars = {after.v + cp.coordinate, before.v + cp.coordinate};
+        if (!restitution_[c])
+          restitution_[c] = std::make_shared<LinearFunction>(
+              Eigen::Vector4d(-cp.sign, -cp.restitution * cp.sign, 1.0, -1.0));
+      } else {
+        const bool with_before = cp.restitution != 0;
+        vars = range(after.q, nv_);
+        for (int v : range(after.v, nv_)) vars.push_back(v);
+        if (with_before) {
+          for (int v : range(before.q, nv_)) vars.push_back(v);
+          for (int v : range(before.v, nv_)) vars.push_back(v);
+        }
+        if (!restitution_[c])
+          restitution_[c] = std::make_shared<AdFunction<RestitutionBalance>>(
+              RestitutionBalance{models_.get(), &contacts_[c], with_before});
+      }
+      vars.push_back(C.a_plus);  // a⁺, a⁻ last (Transcription::seed reads them there)
       vars.push_back(C.a_minus);
-      if (!restitution_[c])
-        restitution_[c] = std::make_shared<AdFunction<RestitutionBalance>>(RestitutionBalance{models_.get(), &contacts_[c]});
       layout_[n].contacts[c].restitution_block = addBlock(restitution_[c], vars, 0, 0, "restitution." + tag + at(n, 0));
       // (9b) as two products, r_n ⊥ y and r_n ⊥ a⁺ + a⁻ (the same complementarity: every factor
       // is ≥ 0), so that an impulse in mid-air (the penalty's local minimum from a cold seed) is

@@ -121,6 +121,59 @@ TEST(NlpDerivatives, BallOnPaddleFirstOrder) {
   checkDerivatives(testing::ballOnPaddleProblem(0.0, 0.5, 1, 3), Method::FirstOrder);
 }
 
+// The restitution balance (9a) in its reduced forms against the two-sided functor on the full
+// state at both sides of the boundary: a stop's is linear in four variables, a contact with e = 0
+// drops the state before the jump. The biped has both (feet e = 0, twelve stops), here with a
+// restitution of 0.3 given to the stops; the ball on the paddle keeps both sides (e = 0.4).
+void checkRestitutionForms(const Problem& p, int expected_stops, int expected_one_sided, int expected_two_sided) {
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd x = randomPoint(t, 17);
+  const int n = t.models().model<double>().nv();
+  int stops = 0, one_sided = 0, two_sided = 0;
+  for (int e = 1; e < t.elements(); ++e) {
+    const auto& after = t.layout()[e].points[0];
+    const auto& prev = t.layout()[e - 1];
+    const auto& before = prev.points[prev.end];
+    for (std::size_t c = 0; c < t.contacts().size(); ++c) {
+      const int bi = t.layout()[e].contacts[c].restitution_block;
+      if (bi < 0) continue;
+      const Block& b = t.blocks()[bi];
+      Eigen::VectorXd local(b.vars.size());
+      for (std::size_t j = 0; j < b.vars.size(); ++j) local[j] = x[b.vars[j]];
+      double reduced = 0;
+      b.f->value(local.data(), &reduced);
+      Eigen::VectorXd full(4 * n + 2);
+      full << x.segment(after.q, n), x.segment(after.v, n), x.segment(before.q, n), x.segment(before.v, n),
+          x[t.layout()[e].contacts[c].a_plus], x[t.layout()[e].contacts[c].a_minus];
+      const AdFunction<RestitutionBalance> two_sided_form(RestitutionBalance{&t.models(), &t.contacts()[c], true});
+      double expected = 0;
+      two_sided_form.value(full.data(), &expected);
+      EXPECT_NEAR(reduced, expected, 1e-12 * (1 + std::abs(expected))) << t.constraintNames()[b.row];
+      if (t.contacts()[c].isStop()) {
+        ++stops;
+        EXPECT_TRUE(b.f->linear());
+        EXPECT_EQ(b.f->inputs(), 4);
+      } else if (t.contacts()[c].restitution == 0) {
+        ++one_sided;
+        EXPECT_EQ(b.f->inputs(), 2 * n + 2);
+      } else {
+        ++two_sided;
+        EXPECT_EQ(b.f->inputs(), 4 * n + 2);
+      }
+    }
+  }
+  EXPECT_EQ(stops, expected_stops);
+  EXPECT_EQ(one_sided, expected_one_sided);
+  EXPECT_EQ(two_sided, expected_two_sided);
+}
+
+TEST(Transcription, RestitutionFormsAgreeWithTheTwoSidedBalance) {
+  Problem biped = smallLegged("biped_stop", 3);
+  for (auto& stop : biped.scene.limits) stop.restitution = 0.3;
+  checkRestitutionForms(biped, 2 * 12, 2 * 2, 0);
+  checkRestitutionForms(testing::ballOnPaddleProblem(0.4, 0.5), 0, 0, testing::ballOnPaddleProblem(0.4, 0.5).N - 1);
+}
+
 TEST(Transcription, ContinuousRefusesRestitution) {
   try {
     const Problem bouncing = testing::pointMassDrop(0.5);
