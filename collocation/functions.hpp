@@ -138,8 +138,14 @@ struct GapDefinition {
   const std::vector<ContactPair>* contacts;
   int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
   int outputs() const { return static_cast<int>(contacts->size()); }
-  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; affine in y
-  bool pairByAd(int i, int) const { return i < models->model<double>().nv(); }  // y enters with coefficient 1
+  // q, of the coordinates some point-on-plane contact moves with (a stop's gap is linear); affine in y.
+  bool nonlinear(int i) const {
+    if (i >= models->model<double>().nv()) return false;
+    for (const ContactPair& c : *contacts)
+      if (!c.isStop() && c.moves_with[i]) return true;
+    return false;
+  }
+  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }  // y enters with coefficient 1
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -181,15 +187,17 @@ struct RestitutionBalance {
   int inputs() const { return 2 * sides() * models->model<double>().nv() + 2; }
   int outputs() const { return 1; }
   // ẏ = nᵀ J(q) q̇ (contact::normalVelocity) is linear in q̇ for fixed q: only the q's are nonlinear.
+  // Of those, the coordinates the contact moves with (ContactPair::moves_with): F has no others.
   bool nonlinear(int i) const {
     const int n = models->model<double>().nv();
-    return i < n || (before && i >= 2 * n && i < 3 * n);
+    return (i < n || (before && i >= 2 * n && i < 3 * n)) && contact->moves_with[i % n];
   }
   // The two sides do not mix and a⁺, a⁻ enter with constant coefficients: the pairs within
-  // (q, q̇) after and within (q, q̇) before.
+  // (q, q̇) after and within (q, q̇) before, of coordinates the contact moves with.
   bool pairByAd(int i, int j) const {  // i ≥ j
     const int n = models->model<double>().nv();
-    return (j < n && i < 2 * n) || (before && j >= 2 * n && j < 3 * n && i < 4 * n);
+    const bool side = (j < n && i < 2 * n) || (before && j >= 2 * n && j < 3 * n && i < 4 * n);
+    return side && contact->moves_with[i % n] && contact->moves_with[j % n];
   }
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -219,9 +227,13 @@ struct SlipSlack {
   FrictionForm friction = FrictionForm::Activation;
   int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
-  bool nonlinear(int i) const { return i < models->model<double>().nv(); }  // q; v_t = J(q) q̇ − v_surface
-  // γ and ψ enter with constant coefficients: the pairs within (q, q̇).
-  bool pairByAd(int i, int j) const { return j < models->model<double>().nv() && i < 2 * models->model<double>().nv(); }
+  // q (v_t = J(q) q̇ − v_surface), of the coordinates the contact moves with: F has no others.
+  bool nonlinear(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
+  // γ and ψ enter with constant coefficients: the pairs within (q, q̇) the contact moves with.
+  bool pairByAd(int i, int j) const {
+    const int n = models->model<double>().nv();
+    return j < n && i < 2 * n && contact->moves_with[i % n] && contact->moves_with[j];
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();

@@ -1,6 +1,15 @@
 #include "contact/pair.hpp"
 
 namespace saltus::contact {
+namespace {
+
+// Marks the coordinates of body b's joint and of every joint between it and the world.
+void markPath(const dynamics::Model<double>& model, int b, std::vector<bool>& marks) {
+  for (; b >= 0; b = model.parent[b])
+    for (int k = 0; k < model.num_coordinates[b]; ++k) marks[model.first_coordinate[b] + k] = true;
+}
+
+}  // namespace
 
 std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
   std::vector<ContactPair> pairs;
@@ -29,6 +38,9 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.directions_B = c.friction > 0 ? scene::coneDirections(p.tangents_B, c.directions) : Eigen::Matrix3Xd(3, 0);
     p.restitution = c.restitution;
     p.friction = c.friction;
+    p.moves_with.assign(scene.model.nv(), false);
+    markPath(scene.model, p.body_a, p.moves_with);
+    markPath(scene.model, p.body_b, p.moves_with);
     pairs.push_back(std::move(p));
   }
   for (const scene::LimitStop& l : scene.limits) {
@@ -41,6 +53,8 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.limit = l.limit;
     p.directions_B = Eigen::Matrix3Xd(3, 0);
     p.restitution = l.restitution;
+    p.moves_with.assign(scene.model.nv(), false);
+    p.moves_with[l.coordinate] = true;
     pairs.push_back(std::move(p));
   }
   return pairs;

@@ -49,6 +49,12 @@ struct ContactPair {
   double restitution = 0;
   double friction = 0;  // μ; 0 for a stop
 
+  // Per velocity coordinate: whether the pair's kinematics (gap, contact frame, relative velocity
+  // and Jacobian) can depend on it: the coordinates of the joints from the world to body A and to
+  // body B; a stop's own coordinate. The others are structurally absent (the collocation's
+  // Hessians skip them).
+  std::vector<bool> moves_with;
+
   bool isStop() const { return kind == PairKind::JointStop; }
   int k() const { return static_cast<int>(directions_B.cols()); }  // friction directions
 };

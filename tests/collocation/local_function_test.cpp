@@ -13,6 +13,7 @@
 
 #include "collocation/functions.hpp"
 #include "collocation/nlp.hpp"
+#include "collocation/problem_file.hpp"
 #include "collocation/transcription.hpp"
 #include "tests/support/problems.hpp"
 
@@ -143,6 +144,17 @@ TEST(AdFunction, DeclaredLinearInputsConveyor) {
 }
 TEST(AdFunction, DeclaredLinearInputsPointMass) {
   checkDeclaredLinearity(testing::pointMassDrop(0.5, 0.1, 2, 2), Method::Impulsive, 4);  // eom, gap, restitution, integration
+}
+
+// The legged problems: the blocks skip the coordinates a contact does not move with (the biped's
+// arms for a foot, the other leg; ContactPair::moves_with) and the stops are linear.
+TEST(AdFunction, DeclaredLinearInputsLegged) {
+  for (const char* name : {"biped_stop", "monopod_turn"}) {
+    Problem p = loadProblem(name);
+    std::erase_if(p.bounds, [&](const PointBound& b) { return b.element >= 0 && b.element < p.N - 1; });
+    remesh(p, 2, 2);
+    checkDeclaredLinearity(p, Method::Impulsive, 5);  // eom, gap, restitution (feet), slip, integration
+  }
 }
 
 // y = sin(x0) x1² + x0 x2 + 5 x2 x3: the sweeps compute the pairs within (x0, x1), the functor

@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include "contact/kinematics.hpp"
+#include "dynamics/kinematics.hpp"
+
 #include "scene/scenario.hpp"
 #include "saltus/build_paths.hpp"
 
@@ -38,6 +43,52 @@ TEST(ContactPairs, ContactsThenStopsWithTheirPlanesAndSigns) {
   EXPECT_EQ(pairs[1].restitution, 0.2);
   EXPECT_EQ(pairs[2].sign, -1.0);
   EXPECT_EQ(pairs[2].k(), 0);
+}
+
+}  // namespace
+}  // namespace saltus::contact
+
+namespace saltus::contact {
+namespace {
+
+// moves_with against the contact layer's own Jacobian: at random states, a point's relative
+// Jacobian is non-zero in exactly the columns it names (a HyQ foot: the base and its own leg's
+// three joints, not the other legs; a box on a box: both boxes' coordinates), a stop's in its
+// coordinate only.
+TEST(ContactPairs, MovesWithTheColumnsOfItsJacobian) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int points = 0, off_path = 0;
+  for (const char* name : {"hyq_drop", "chain_on_stops", "box_stack", "pendulum_conveyor"}) {
+    const scene::Scene s = scene::loadScene(name);
+    const auto& model = s.model;
+    dynamics::Data<double> data(model);
+    const std::vector<ContactPair> pairs = contactPairs(s);
+    for (int trial = 0; trial < 3; ++trial) {
+      Eigen::VectorXd q(model.nq());
+      for (int i = 0; i < q.size(); ++i) q[i] = U(rng);
+      if (model.nq() != model.nv()) q.segment(3, 4).normalize();  // a quaternion base
+      dynamics::forwardKinematics(model, data, q);
+      for (const ContactPair& pair : pairs) {
+        ASSERT_EQ(static_cast<int>(pair.moves_with.size()), model.nv()) << name << " " << pair.name;
+        Eigen::RowVectorXd row(model.nv());
+        normalRow(model, data, pair, row);
+        dynamics::Mat3X<double> J(3, model.nv());
+        if (!pair.isStop()) relativeJacobian(model, data, pair, J);
+        for (int k = 0; k < model.nv(); ++k) {
+          const double column = pair.isStop() ? std::abs(row[k]) : J.col(k).norm();
+          if (pair.moves_with[k])
+            EXPECT_GT(column, 1e-9) << name << " " << pair.name << " column " << k;
+          else
+            EXPECT_EQ(column, 0.0) << name << " " << pair.name << " column " << k;
+          off_path += !pair.moves_with[k];
+        }
+        points += !pair.isStop();
+      }
+    }
+  }
+  EXPECT_GT(points, 0);
+  EXPECT_GT(off_path, 0);
 }
 
 }  // namespace
