@@ -79,6 +79,10 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
     options.solve.tighten_within = *opt.tighten_within;
   }
+  if (opt.task_max_iter) {
+    if (*opt.task_max_iter < 0) throw UsageError("--task-max-iter: expected a non-negative iteration count");
+    options.solve.task_max_iter = *opt.task_max_iter;
+  }
   if (fs::exists(opt.out) && !fs::is_directory(opt.out))
     throw UsageError("--out " + opt.out + ": exists and is not a directory");
   try {
@@ -131,7 +135,7 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
 
   const SolveReport& r = o.report;
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
-            << (r.feasible ? "feasible" : "NOT feasible") << " (" << r.stages.back().status << ", largest product "
+            << (r.converged ? "feasible" : r.feasible ? "feasible, not converged" : "NOT feasible") << " ("<< r.stages.back().status << ", largest product "
             << r.largest_product << (r.largest_product_at.empty() ? "" : " at " + r.largest_product_at) << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
             << r.evaluation_seconds << " s evaluating"
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "
@@ -167,6 +171,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--tighten-within", opt->tighten_within,
                   "tighten (every product bounded by 0.9 x the tolerance) a solve ending infeasible with products "
                   "within this many times the tolerance (default: always; 0: never)");
+  app->add_option("--task-max-iter", opt->task_max_iter,
+                  "iteration limit of the task stage (default: Ipopt's max_iter); a task stage stopped by it at a "
+                  "feasible point gives a feasible, not converged, solution");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
   app->add_option("--hessian", opt->hessian, "exact (default) or limited-memory");

@@ -20,6 +20,7 @@ struct OptimizeCliOptions {
   std::optional<double> seed_scale;
   std::optional<int> restarts;
   std::optional<double> tighten_within;
+  std::optional<int> task_max_iter;
   std::vector<std::string> set, ipopt;
   std::string hessian;
   int print_level = 0;

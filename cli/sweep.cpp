@@ -44,7 +44,8 @@ std::string duration(double seconds) {
 std::string sweepOutcome(const SweepRecord& r) {
   if (r.status == "error") return "error: " + r.error;
   std::ostringstream o;
-  o << (r.success() ? "success" : !r.feasible ? "not feasible" : "not physical") << " (" << r.status << ", "
+  o << (r.success() ? "success" : !r.feasible ? "not feasible" : "not physical")
+    << (r.feasible && !r.converged ? ", not converged" : "") << " (" << r.status << ", "
     << r.iterations << " it, " << formatNumber(r.wall_seconds, 3) << " s, largest product "
     << formatNumber(r.largest_product, 2);
   if (r.replay_deviation >= 0) o << ", replay deviation " << formatNumber(r.replay_deviation, 2);
@@ -82,18 +83,19 @@ std::string report(const std::string& spec_file, const std::vector<SweepCase>& c
   md << "# Sweep " << fs::path(spec_file).filename().string() << "\n\n"
      << "Spec `" << spec_file << "`; " << records.size() << " of " << cases.size() << " solves have a record"
      << (records.size() < cases.size() ? " (the sweep is not finished: run the same command again)" : "") << ".\n\n"
-     << "A solve succeeds when it is feasible (Ipopt succeeded in every stage and every complementarity product is "
-        "at most the problem's tolerance) and physically right (its replay in Saltus' time-stepper stays within the "
-        "replay tolerance). Time, iterations, mean local error and cost are over the successful solves: median "
+     << "A solve succeeds when it is feasible (at its solution every complementarity product is at most the "
+        "problem's tolerance and every constraint holds within 1e-6) and physically right (its replay in Saltus' time-stepper stays within the "
+        "replay tolerance). Converged: feasible, and Ipopt solved the stage the solution comes from (a task stage "
+        "stopped by its iteration limit at a feasible point is feasible, not converged). Time, iterations, mean local error and cost are over the successful solves: median "
         "[first quartile, third quartile].\n\n"
-     << "| problem | method | parameters | success | feasible | physical | wall s | iterations | mean local error | "
-        "cost |\n|---|---|---|---|---|---|---|---|---|---|\n";
+     << "| problem | method | parameters | success | feasible | converged | physical | wall s | iterations | "
+        "mean local error | cost |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const CellSummary& c : cells) {
     std::string parameters;
     for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : ", ") + name + " = " + formatValue(value);
     md << "| " << c.problem_name << " | " << c.method << " | " << (parameters.empty() ? "–" : parameters) << " | "
        << c.successes << "/" << c.solves << " (" << std::lround(100 * c.success_rate) << " %) | " << c.feasible << " | "
-       << c.physical << " | " << quartileText(c.wall_seconds) << " | " << quartileText(c.iterations) << " | "
+       << c.converged << " | " << c.physical << " | " << quartileText(c.wall_seconds) << " | " << quartileText(c.iterations) << " | "
        << quartileText(c.mean_local_error, 2) << " | " << quartileText(c.objective, 3) << " |\n";
   }
   int total = 0, successes = 0;

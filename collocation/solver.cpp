@@ -155,6 +155,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   }
   for (const auto& [name, value] : t.problem().ipopt_options) setOption(*app, name, value);
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
+  if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
   tuneProcessForSolves();
 
@@ -189,29 +190,35 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.variables = t.variables();
   report.constraints = t.constraints();
   const double tolerance = t.problem().complementarity_tolerance;
+  // A stage's end point is feasible when every product is within the tolerance and every
+  // constraint within options.violation_tolerance of its bounds, whatever Ipopt's status.
+  const auto feasibleEnd = [&](const StageReport& s) {
+    return s.largest_product <= tolerance && s.largest_violation <= options.violation_tolerance;
+  };
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
   report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
   const StageReport first = report.stages.back();  // a copy: the task stage's push_back reallocates
-  const bool first_feasible = first.succeeded && first.largest_product <= tolerance;
+  const bool first_feasible = feasibleEnd(first);
+  std::size_t kept = 0;  // the stage whose end point is the result
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task = (has_task || !t.problem().hints.empty()) && !report.interrupted;
-  bool tightened = false;
-  if (task && first.succeeded) {
+  if (task && (first.succeeded || first_feasible)) {
     const Eigen::VectorXd x1 = x;
     // The multipliers help only near a solution: the feasibility stage's are those of a point
     // of the real problem when its products are within the tolerance.
     const Multipliers start = options.warm_start_multipliers && first_feasible ? multipliers : Multipliers{};
     report.stages.push_back(runStage(t, Stage::Task, x1, start, options, x, multipliers, report));
     const StageReport& second = report.stages.back();
-    const bool second_feasible = second.succeeded && second.largest_product <= tolerance;
-    if (!second_feasible && first_feasible && !has_task) {
-      // Without a task cost the task stage only drops the hints, and the feasibility stage's
-      // point satisfies every constraint of the problem (the hints only add bounds).
+    if (feasibleEnd(second) || !first_feasible || report.interrupted) {
+      kept = 1;
+    } else {
+      // The feasibility stage's point satisfies every constraint of the problem (hints only add
+      // bounds): a valid trajectory, whose task cost the failed stage did not minimise.
       x = x1;
-      report.note = "the task stage ended " + second.status + "; kept the feasibility stage's solution";
+      report.note = "the task stage ended " + second.status + " at an infeasible point; kept the feasibility stage's solution";
     }
   }
   if (!task && !report.interrupted && first.succeeded && !first_feasible &&
@@ -222,27 +229,27 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const Eigen::VectorXd x1 = x;
     report.stages.push_back(runStage(t, Stage::Task, x1, {}, options, x, multipliers, report, "tighten"));
     const StageReport& second = report.stages.back();
-    if (second.succeeded && second.largest_product <= tolerance) {
-      tightened = true;
+    if (feasibleEnd(second)) {
+      kept = 1;
     } else {
       x = x1;
       report.note = "the tightening stage ended " + second.status + "; kept the feasibility stage's point";
     }
   }
   report.x = x;
+  const StageReport& end = report.stages[kept];
   report.largest_product = t.largestProduct(x, &report.largest_product_at);
-  report.objective = report.note.empty() ? report.stages.back().objective : report.stages.front().objective;
-  bool all = true;
+  report.largest_violation = end.largest_violation;
+  report.objective = end.objective;
   for (const StageReport& s : report.stages) {
-    all = all && s.succeeded;
     report.wall_seconds += s.wall_seconds;
     report.evaluation_seconds += s.evaluation_seconds;
     report.iterations += s.iterations;
   }
-  if (!report.note.empty()) all = first.succeeded;
-  if (tightened) all = true;  // the feasibility stage ended succeeded, the tightening feasible
-  report.feasible = all && !report.interrupted && (!task || report.stages.size() == 2) &&
-                    report.largest_product <= tolerance;
+  report.feasible = !report.interrupted && feasibleEnd(end);
+  // Converged: Ipopt solved the stage whose point is kept, and that stage minimised the task
+  // cost when there is one (a tightening stage only pulls products under the tolerance).
+  report.converged = report.feasible && end.succeeded && (!has_task || kept == 1);
   report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
 }

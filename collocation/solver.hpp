@@ -2,8 +2,15 @@
 // complementarity penalty Σ ε from the seed, hints applied), then, when the problem has a task
 // cost or hints, the task stage (minimise the task cost and the weighted penalty with every
 // ε ≤ the complementarity tolerance and without the hints, warm-started from the first stage:
-// its point, and (by default) its multipliers with Ipopt's warm_start_init_point). A solution is
-// feasible when Ipopt succeeded and every product A·B is at most the tolerance (1e-4).
+// its point, and (by default) its multipliers with Ipopt's warm_start_init_point).
+//
+// A solution is feasible when, at its point, every product A·B is at most the tolerance (1e-4)
+// and every constraint is within SolveOptions::violation_tolerance of its bounds, whatever
+// Ipopt's status; it is converged when, in addition, Ipopt solved the stage it comes from and
+// that stage minimised the task cost (when the problem has one). A task stage stopped by its
+// iteration limit at a feasible point gives a feasible, not converged, solution (a valid
+// trajectory whose cost is not proven locally minimal); one that ends at an infeasible point
+// leaves the feasibility stage's feasible point as the result, also not converged.
 #pragma once
 
 #include <functional>
@@ -43,15 +50,17 @@ struct AttemptReport {
 struct SolveReport {
   std::vector<StageReport> stages;  // of the last attempt
   std::vector<AttemptReport> attempts;
-  // Set when the task stage failed and the feasibility stage's solution (feasible, and the
-  // problem has no task cost) was kept.
+  // Set when the task (or tightening) stage ended at an infeasible point and the feasibility
+  // stage's point was kept.
   std::string note;
-  Eigen::VectorXd x;      // the last stage's solution
-  bool feasible = false;  // every stage succeeded and every product ≤ tolerance
+  Eigen::VectorXd x;      // the solution: the last stage's end point, or the note's
+  bool feasible = false;   // products ≤ tolerance and constraints within violation_tolerance at x
+  bool converged = false;  // feasible, and Ipopt solved the (task) stage x comes from
   bool interrupted = false;  // SolveOptions::interrupted stopped it (not feasible)
   double largest_product = 0;
   std::string largest_product_at;  // the product's constraint name (e.g. "impact.ball[10,0]")
-  double objective = 0;   // the last stage's objective
+  double largest_violation = 0;    // of a constraint's bounds at x
+  double objective = 0;   // the objective of the stage x comes from
   double wall_seconds = 0, evaluation_seconds = 0;
   int iterations = 0;
   int variables = 0, constraints = 0, jacobian_nonzeros = 0, hessian_nonzeros = 0;
@@ -65,6 +74,14 @@ struct SolveOptions {
   // The seed is close to a solution (an earlier solution): the feasibility stage starts with a
   // small barrier parameter and keeps the seed close to its bounds, as the task stage does.
   bool warm_seed = false;
+  // Largest violation of a constraint's bounds at a feasible point (the constraints are in SI
+  // units: metres, m/s, N·s). Ipopt's constr_viol_tol is 1e-8 by default; this accepts a point
+  // that a stage stopped by its iteration limit left within 1e-6.
+  double violation_tolerance = 1e-6;
+  // Iteration limit of the task stage (its max_iter, over the problem's and the command line's;
+  // −1: the same as the feasibility stage). A task stage that reaches it at a feasible point
+  // leaves a feasible, not converged, solution.
+  int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
   // A penalty-only solve whose feasibility stage ends (Ipopt succeeded) with its largest product
   // above the tolerance, but within this many times it, is tightened: a stage with every ε

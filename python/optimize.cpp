@@ -67,7 +67,9 @@ void bindOptimize(py::module_& m) {
 
   py::class_<SolutionHandle, std::shared_ptr<SolutionHandle>>(m, "Solution", "An optimised trajectory.")
       .def_property_readonly("feasible", [](const SolutionHandle& s) { return s.result.feasible(); },
-                             "Every stage succeeded and every complementarity product is within the tolerance.")
+                             "Every complementarity product and every constraint is within its tolerance at the solution.")
+      .def_property_readonly("converged", [](const SolutionHandle& s) { return s.result.report.converged; },
+                             "Feasible, and Ipopt solved the stage the solution comes from (minimising the task cost, if any).")
       .def_property_readonly("status", [](const SolutionHandle& s) { return s.result.report.stages.back().status; },
                              "Ipopt's status of the last stage.")
       .def_property_readonly(
@@ -153,7 +155,7 @@ void bindOptimize(py::module_& m) {
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
          const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
-         bool require_feasible, const Parameters& set) {
+         std::optional<int> task_max_iter, bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
         OptimizeOptions o;
         o.method = collocation::parseMethod(method);
@@ -172,6 +174,10 @@ void bindOptimize(py::module_& m) {
         o.solve.ipopt = ipopt;
         o.solve.print_level = print_level;
         if (tighten_within) o.solve.tighten_within = *tighten_within;
+        if (task_max_iter) {
+          if (*task_max_iter < 0) throw std::invalid_argument("task_max_iter: expected a non-negative iteration count");
+          o.solve.task_max_iter = *task_max_iter;
+        }
         // Ctrl-C: Python's signal handler only flags the signal; Ipopt's callback looks at every
         // iteration (with the GIL) and stops the solve, which then raises KeyboardInterrupt.
         bool stopped = false;
@@ -208,7 +214,8 @@ void bindOptimize(py::module_& m) {
       py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
       py::arg("seed_from") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
-      py::arg("print_level") = 0, py::arg("tighten_within") = py::none(), py::arg("require_feasible") = false,
+      py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
+      py::arg("task_max_iter") = py::none(), py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},
       "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
       "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize`. An "

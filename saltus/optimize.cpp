@@ -111,9 +111,11 @@ std::string summaryJson(const OptimizeResult& o) {
   j["restarts"] = problem.restarts;
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["feasible"] = r.feasible;
+  j["converged"] = r.converged;
   j["objective"] = r.objective;
   j["largest_product"] = r.largest_product;
   j["largest_product_at"] = r.largest_product_at;
+  j["largest_violation"] = r.largest_violation;
   j["complementarity_tolerance"] = problem.complementarity_tolerance;
   j["iterations"] = r.iterations;
   j["wall_seconds"] = r.wall_seconds;

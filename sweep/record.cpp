@@ -22,6 +22,7 @@ nlohmann::ordered_json toJson(const SweepRecord& r) {
   j["status"] = r.status;
   if (!r.error.empty()) j["error"] = r.error;
   j["feasible"] = r.feasible;
+  j["converged"] = r.converged;
   j["physical"] = r.physical ? nlohmann::ordered_json(*r.physical) : nlohmann::ordered_json();
   j["success"] = r.success();
   j["replay_deviation"] = r.replay_deviation;
@@ -56,6 +57,7 @@ SweepRecord recordFromJson(const nlohmann::json& j) {
     r.status = get("status").get<std::string>();
     r.error = j.value("error", std::string());
     r.feasible = get("feasible").get<bool>();
+    r.converged = j.value("converged", r.feasible);  // records before the key: feasible meant converged
     if (!get("physical").is_null()) r.physical = get("physical").get<bool>();
     r.replay_deviation = get("replay_deviation").get<double>();
     r.replay_message = j.value("replay_message", std::string());
@@ -122,6 +124,7 @@ std::vector<CellSummary> summarise(const std::vector<SweepRecord>& records) {
     Cell& c = cells[it->second];
     ++c.summary.solves;
     c.summary.feasible += r.feasible;
+    c.summary.converged += r.converged;
     c.summary.physical += r.physical.value_or(false);
     c.wall_all.push_back(r.wall_seconds);
     if (!r.success()) continue;
@@ -180,7 +183,7 @@ nlohmann::ordered_json toJson(const Quartiles& q) {
 
 std::string summaryCsv(const std::vector<CellSummary>& cells) {
   std::ostringstream csv;
-  csv << "problem,method,parameters,solves,feasible,physical,successes,success_rate,wall_all_median";
+  csv << "problem,method,parameters,solves,feasible,converged,physical,successes,success_rate,wall_all_median";
   for (const auto& [name, member] : kStatistics)
     for (const char* q : {"min", "q1", "median", "q3", "max"}) csv << "," << name << "_" << q;
   csv << "\n";
@@ -188,7 +191,7 @@ std::string summaryCsv(const std::vector<CellSummary>& cells) {
     std::string parameters;
     for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : " ") + name + "=" + formatValue(value);
     csv << field(c.problem_name) << "," << c.method << "," << field(parameters) << "," << c.solves << "," << c.feasible << ","
-        << c.physical << "," << c.successes << "," << number(c.success_rate) << "," << number(c.wall_all.median);
+        << c.converged << "," << c.physical << "," << c.successes << "," << number(c.success_rate) << "," << number(c.wall_all.median);
     for (const auto& [name, member] : kStatistics) {
       const Quartiles& q = c.*member;
       for (double x : {q.min, q.q1, q.median, q.q3, q.max}) csv << "," << number(x);
@@ -208,6 +211,7 @@ nlohmann::ordered_json summaryJson(const std::vector<CellSummary>& cells, const 
     cell["set"] = c.set;
     cell["solves"] = c.solves;
     cell["feasible"] = c.feasible;
+    cell["converged"] = c.converged;
     cell["physical"] = c.physical;
     cell["successes"] = c.successes;
     cell["success_rate"] = c.success_rate;

@@ -28,6 +28,7 @@ struct SweepRecord {
   std::string status;   // Ipopt's status of the last stage, or "error" when no solution was written
   std::string error;    // the command's last line of standard error when it wrote no solution
   bool feasible = false;
+  bool converged = false;  // feasible, and Ipopt solved the stage of the solution (solver.hpp)
   std::optional<bool> physical;     // replay within tolerance (absent: no replay check)
   double replay_deviation = -1;     // largest position deviation of the replay [m or rad]; −1: none
   std::string replay_message;       // why the replay did not complete
@@ -54,7 +55,7 @@ Quartiles quartiles(std::vector<double> values);
 struct CellSummary {
   std::string problem_name, method;
   std::map<std::string, double> set;
-  int solves = 0, feasible = 0, physical = 0, successes = 0;
+  int solves = 0, feasible = 0, converged = 0, physical = 0, successes = 0;
   double success_rate = 0;
   Quartiles wall_all;  // wall seconds over every solve
   Quartiles wall_seconds, iterations, mean_local_error, objective;  // over the successful solves

@@ -183,6 +183,7 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
     const nlohmann::json j = nlohmann::json::parse(in);
     r.status = j.at("stages").back().at("status").get<std::string>();
     r.feasible = j.at("feasible").get<bool>();
+    r.converged = j.value("converged", r.feasible);
     r.iterations = j.at("iterations").get<int>();
     r.wall_seconds = j.at("wall_seconds").get<double>();
     r.evaluation_seconds = j.at("evaluation_seconds").get<double>();

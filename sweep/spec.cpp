@@ -57,7 +57,8 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "hessian", "ipopt"}, true);
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "task_max_iter", "hessian", "ipopt"},
+             true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
   if (n["P"]) {
@@ -74,6 +75,7 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     if (!(*o.tighten_within >= 0))
       r.fail(n["tighten_within"], "options.tighten_within", "expected a non-negative ratio (0: never tighten)");
   }
+  if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], "options.task_max_iter", 0);
   if (n["seed"]) {
     o.seed_kind = r.text(n["seed"], "options.seed");
     try {
@@ -228,6 +230,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
+  if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});
   a.insert(a.end(), {"--out", out});

@@ -27,6 +27,7 @@ struct SolveSettings {
   std::optional<int> N, P, restarts;
   std::optional<double> seed_scale;
   std::optional<double> tighten_within;  // --tighten-within
+  std::optional<int> task_max_iter;      // --task-max-iter
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
   std::string hessian;  // "", "exact" or "limited-memory"
   std::map<std::string, std::string> ipopt;  // --ipopt name=value

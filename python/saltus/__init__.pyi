@@ -94,6 +94,7 @@ def load_problem(name: str, set: Parameters = ...) -> Problem: ...
 
 class Solution:
     feasible: bool
+    converged: bool
     status: str
     summary: Dict[str, Any]
     problem: Problem
@@ -110,7 +111,8 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              P: Optional[int] = None, seed: Optional[int] = None, seed_kind: Optional[str] = None,
              seed_from: str = "", seed_scale: Optional[float] = None, restarts: Optional[int] = None,
              hessian: Optional[str] = None, ipopt: Dict[str, str] = ..., print_level: int = 0,
-             tighten_within: Optional[float] = None, require_feasible: bool = False,
+             tighten_within: Optional[float] = None, task_max_iter: Optional[int] = None,
+             require_feasible: bool = False,
              set: Parameters = ...) -> Solution: ...
 
 def replay(solution: str, *, out: str = "", engine: str = "saltus", dt: float = 1e-4, theta: float = 0.5,

@@ -399,5 +399,63 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   checkDrop(s, 0.0);
 }
 
+// A task stage stopped by its iteration limit at a feasible point leaves a feasible, not
+// converged, solution. The inelastic drop with a task cost (the lowest largest height, x_m): its
+// feasibility stage ends at a solution; a task stage allowed no iteration stops at that point
+// (Maximum_Iterations_Exceeded) and the result is the drop, feasible and not converged; allowed
+// its iterations, the task stage converges.
+TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd seed = seedFromSimulation(t);
+  SolveOptions stopped;
+  stopped.warm_seed = true;
+  stopped.task_max_iter = 0;
+  const SolveReport r = solve(t, seed, stopped);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.stages[0].succeeded);
+  EXPECT_EQ(r.stages[1].status, "Maximum_Iterations_Exceeded");
+  EXPECT_EQ(r.stages[1].iterations, 0);
+  EXPECT_TRUE(r.feasible) << "largest product " << r.largest_product << ", violation " << r.largest_violation;
+  EXPECT_FALSE(r.converged);
+  EXPECT_LE(r.largest_violation, stopped.violation_tolerance);
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
+
+  SolveOptions full;
+  full.warm_seed = true;
+  const SolveReport c = solve(t, seed, full);
+  ASSERT_EQ(c.stages.size(), 2u);
+  EXPECT_TRUE(c.stages[1].succeeded) << c.stages[1].status;
+  EXPECT_TRUE(c.feasible);
+  EXPECT_TRUE(c.converged);
+  // x_m is the largest height: the drop's start, 0.1 m.
+  EXPECT_NEAR(c.objective, 0.1, 1e-3);
+}
+
+// Without a task cost a solve that Ipopt solved is converged; a feasibility stage stopped by its
+// iteration limit before the products are small is neither feasible nor converged.
+TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {
+  const Problem p = loadProblem("point_mass_drop");
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd seed = seedFromSimulation(t);
+  SolveOptions o;
+  o.warm_seed = true;
+  const SolveReport r = solve(t, seed, o);
+  EXPECT_TRUE(r.feasible);
+  EXPECT_TRUE(r.converged);
+  SolveOptions cut;
+  cut.ipopt["max_iter"] = "1";
+  cut.tighten_within = 0;
+  const SolveReport n = solve(t, t.nullSeed(), cut);
+  EXPECT_EQ(n.stages.back().status, "Maximum_Iterations_Exceeded");
+  EXPECT_FALSE(n.feasible) << "largest product " << n.largest_product;
+  EXPECT_FALSE(n.converged);
+}
+
 }  // namespace
 }  // namespace saltus::collocation

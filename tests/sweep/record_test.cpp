@@ -21,6 +21,7 @@ SweepRecord record(const std::string& method, double restitution, unsigned seed,
   r.id = "drop__" + method + "__restitution=" + std::to_string(restitution) + "__seed=" + std::to_string(seed);
   r.status = feasible ? "Solve_Succeeded" : "Infeasible_Problem_Detected";
   r.feasible = feasible;
+  r.converged = feasible && seed != 4;  // seed 4: a task stage stopped at a feasible point
   if (feasible) r.physical = physical;
   r.wall_seconds = wall;
   r.iterations = iterations;
@@ -58,6 +59,7 @@ TEST(SweepRecord, CellsCountSuccessesAndTakeStatisticsOverThem) {
   EXPECT_EQ(c.set.at("restitution"), 0);
   EXPECT_EQ(c.solves, 4);
   EXPECT_EQ(c.feasible, 3);
+  EXPECT_EQ(c.converged, 2);
   EXPECT_EQ(c.physical, 2);
   EXPECT_EQ(c.successes, 2);
   EXPECT_DOUBLE_EQ(c.success_rate, 0.5);
@@ -75,8 +77,8 @@ TEST(SweepRecord, CellsCountSuccessesAndTakeStatisticsOverThem) {
   std::string header, first;
   std::getline(csv, header);
   std::getline(csv, first);
-  EXPECT_EQ(header.substr(0, 89), "problem,method,parameters,solves,feasible,physical,successes,success_rate,wall_all_median");
-  EXPECT_EQ(first.substr(0, 43), "drop,impulsive,restitution=0,4,3,2,2,0.5,4,");
+  EXPECT_EQ(header.substr(0, 99), "problem,method,parameters,solves,feasible,converged,physical,successes,success_rate,wall_all_median");
+  EXPECT_EQ(first.substr(0, 45), "drop,impulsive,restitution=0,4,3,2,2,2,0.5,4,");
 
   const auto j = summaryJson(cells, records);
   EXPECT_EQ(j["cells"].size(), 3u);
@@ -110,6 +112,14 @@ TEST(SweepRecord, JsonReadsBackAsWritten) {
   EXPECT_FALSE(back.success());
   EXPECT_DOUBLE_EQ(back.replay_deviation, 0.02);
   EXPECT_DOUBLE_EQ(back.wall_seconds, 1.5);
+  EXPECT_TRUE(back.converged);
+  SweepRecord not_converged = r;
+  not_converged.converged = false;
+  EXPECT_FALSE(recordFromJson(toJson(not_converged)).converged);
+  // A record written before the key: feasible meant converged.
+  nlohmann::json old = toJson(r);
+  old.erase("converged");
+  EXPECT_TRUE(recordFromJson(old).converged);
   // Infeasible: no replay, physical absent.
   const SweepRecord infeasible = recordFromJson(toJson(record("impulsive", 0, 1, false, false, 1, 1)));
   EXPECT_FALSE(infeasible.physical.has_value());

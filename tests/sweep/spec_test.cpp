@@ -36,7 +36,7 @@ problems:
 methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
-options: {N: 10, restarts: 0, tighten_within: 0, ipopt: {bound_push: 1e-6}}
+options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, ipopt: {bound_push: 1e-6}}
 )",
                                         "spec.yaml");
   ASSERT_EQ(spec.problems.size(), 2u);
@@ -58,7 +58,7 @@ options: {N: 10, restarts: 0, tighten_within: 0, ipopt: {bound_push: 1e-6}}
   const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0",
-                                             "--tighten-within", "0", "--ipopt", "bound_push=1e-6", "--out", "OUT"};
+                                             "--tighten-within", "0", "--task-max-iter", "500", "--ipopt", "bound_push=1e-6", "--out", "OUT"};
   EXPECT_EQ(args, expected);
 }
 
