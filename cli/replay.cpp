@@ -44,6 +44,7 @@ struct ReplayCliOptions {
   double theta = 0.5;
   std::string feedback = "none";
   double kp = 100, kd = 20;
+  std::string restart = "none";
   double tolerance = 0;  // 0: 10 m/s × dt
   double input_scale = 1.0;
   std::string input_offset;
@@ -63,6 +64,11 @@ int replayCommand(const ReplayCliOptions& opt) {
     o.feedback = verify::parseFeedback(opt.feedback);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--feedback: ") + e.what());
+  }
+  try {
+    o.restart = verify::parseRestart(opt.restart);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--restart: ") + e.what());
   }
   try {
     o.bullet.solver = verify::parseBulletSolver(opt.bullet_solver);
@@ -168,6 +174,9 @@ Command addReplayCommand(CLI::App& saltus) {
   app->add_option("--feedback", opt->feedback, "none (default: open loop) or pd (tracking on the actuated coordinates)");
   app->add_option("--kp", opt->kp, "PD position gain [N/m or N m/rad] (default 100)");
   app->add_option("--kd", opt->kd, "PD velocity gain [N s/m or N m s/rad] (default 20)");
+  app->add_option("--restart", opt->restart,
+                  "none (default) or mesh: start again from the optimised state at every mesh point, so each element "
+                  "is checked from its own start (for motions that diverge open loop)");
   app->add_option("--tolerance", opt->tolerance,
                   "largest allowed position deviation over all coordinates [m or rad] (default 10 m/s x dt: 1e-3 at dt 1e-4); exit 1 above it");
   app->add_option("--input-scale", opt->input_scale, "multiply the optimised inputs (a deliberately wrong input; default 1)");

@@ -43,7 +43,8 @@ void bindReplay(py::module_& m) {
   m.def(
       "replay",
       [](const std::string& solution, const std::string& out, const std::string& engine, double dt, double theta,
-         const std::string& feedback, double kp, double kd, double tolerance, bool charts, bool allow_changed_problem) {
+         const std::string& feedback, double kp, double kd, const std::string& restart, double tolerance, bool charts,
+         bool allow_changed_problem) {
         verify::ReplayOptions o;
         o.engines = verify::parseEngines(engine);
         o.dt = dt;
@@ -51,6 +52,7 @@ void bindReplay(py::module_& m) {
         o.feedback = verify::parseFeedback(feedback);
         o.kp = kp;
         o.kd = kd;
+        o.restart = verify::parseRestart(restart);
         o.tolerance = tolerance;
         verify::ReplayResult r;
         std::string chart_error;
@@ -84,7 +86,7 @@ void bindReplay(py::module_& m) {
       },
       py::arg("solution"), py::kw_only(), py::arg("out") = "", py::arg("engine") = "saltus", py::arg("dt") = 1e-4,
       py::arg("theta") = 0.5, py::arg("feedback") = "none", py::arg("kp") = 100.0, py::arg("kd") = 20.0,
-      py::arg("tolerance") = 0.0, py::arg("charts") = true, py::arg("allow_changed_problem") = false,
+      py::arg("restart") = "none", py::arg("tolerance") = 0.0, py::arg("charts") = true, py::arg("allow_changed_problem") = false,
       "Replays a saved solution (a Solution.save / `saltus optimize` folder) from its initial state in the "
       "time-stepper ('saltus'), Bullet ('bullet') or 'both', driven by its inputs, as `saltus replay`; with `out`, "
       "writes replay.csv, replay.json and the charts there. Returns a dict: within_tolerance, tolerance [m or rad] "

@@ -31,7 +31,8 @@ std::string seriesCsv(const ReplayResult& r) {
   s.precision(10);
   s << "# saltus replay: optimised and replayed trajectories\n";
   s << "# problem: " << r.problem << "\n# method: " << r.method << "\n# dt: " << r.options.dt
-    << "\n# feedback: " << verify::feedbackName(r.options.feedback) << "\n# tolerance: " << r.tolerance;
+    << "\n# feedback: " << verify::feedbackName(r.options.feedback)
+    << "\n# restart: " << verify::restartName(r.options.restart) << "\n# tolerance: " << r.tolerance;
   s << "\n# coordinates:";
   for (const std::string& c : r.coordinates) s << ' ' << c;
   s << "\n# engines:";
@@ -88,6 +89,7 @@ nlohmann::ordered_json reportJson(const ReplayResult& r, const std::string& dir)
                    {"kp", r.options.kp},
                    {"kd", r.options.kd},
                    {"coordinates", r.options.feedback == verify::Feedback::Pd ? r.inputs : std::vector<std::string>{}}};
+  j["restart"] = verify::restartName(r.options.restart);
   if (r.options.input_scale != 1.0 || r.options.input_offset.size() > 0) {
     j["input_modified"] = {{"scale", r.options.input_scale},
                            {"offset", std::vector<double>(r.options.input_offset.data(),

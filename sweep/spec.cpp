@@ -105,7 +105,7 @@ void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
     c.enabled = r.boolean(n, "replay");
     return;
   }
-  r.checkMap(n, "replay", {"dt", "tolerance"});
+  r.checkMap(n, "replay", {"dt", "tolerance", "restart"});
   if (n["dt"]) {
     c.dt = r.number(n["dt"], "replay.dt");
     if (!(c.dt > 0)) r.fail(n["dt"], "replay.dt", "expected a positive step [s]");
@@ -113,6 +113,12 @@ void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
   if (n["tolerance"]) {
     c.tolerance = r.number(n["tolerance"], "replay.tolerance");
     if (!(c.tolerance >= 0)) r.fail(n["tolerance"], "replay.tolerance", "expected a non-negative deviation [m or rad]");
+  }
+  if (n["restart"]) {
+    const std::string restart = r.text(n["restart"], "replay.restart");
+    if (restart != "none" && restart != "mesh")
+      r.fail(n["restart"], "replay.restart", "expected none or mesh, got '" + restart + "'");
+    c.restart_at_mesh = restart == "mesh";
   }
 }
 

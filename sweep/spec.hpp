@@ -40,6 +40,9 @@ struct ReplayCheck {
   bool enabled = true;
   double dt = 1e-4;
   double tolerance = 0;  // 0: verify::ReplayOptions' default (10 m/s × dt)
+  // restart: mesh: from the optimised state at every mesh point (verify::Restart::Mesh), for
+  // motions that open loop diverge whatever the solution's accuracy (a biped on one foot).
+  bool restart_at_mesh = false;
 };
 
 struct ProblemEntry {

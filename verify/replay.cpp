@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -21,6 +22,14 @@ Feedback parseFeedback(const std::string& name) {
   if (name == "none") return Feedback::None;
   if (name == "pd") return Feedback::Pd;
   throw std::invalid_argument("unknown feedback '" + name + "' (expected none or pd)");
+}
+
+const char* restartName(Restart restart) { return restart == Restart::None ? "none" : "mesh"; }
+
+Restart parseRestart(const std::string& name) {
+  if (name == "none") return Restart::None;
+  if (name == "mesh") return Restart::Mesh;
+  throw std::invalid_argument("expected none or mesh, got '" + name + "'");
 }
 
 const char* eventKindName(ContactEvent::Kind kind) {
@@ -172,6 +181,8 @@ struct OptimisedGrid {
   std::vector<double> t;
   std::vector<Eigen::VectorXd> q, v, u;   // u: steps entries
   std::vector<std::vector<double>> gaps;  // per scene contact, per grid time
+  // Restart::Mesh: the steps at whose start the engine is reset, with the state (before a jump).
+  std::map<long, std::pair<Eigen::VectorXd, Eigen::VectorXd>> restarts;
   long steps() const { return static_cast<long>(t.size()) - 1; }
 };
 
@@ -196,6 +207,18 @@ OptimisedGrid optimisedOnGrid(const SavedSolution& solution, const CollocationTr
     for (int c = 0; c < kin.contacts(); ++c) g.gaps[c][k] = kin.gap(c);
   }
   return g;
+}
+
+// The restarts of Restart::Mesh: at each mesh time t_n after the first, the last step k with
+// t_k ≤ t_n, from the optimised state at t_k before a jump.
+void addRestarts(OptimisedGrid& g, const CollocationTrajectory& traj, double dt) {
+  const std::vector<double>& mesh = traj.meshTimes();
+  for (std::size_t n = 1; n + 1 < mesh.size(); ++n) {
+    const long k = static_cast<long>(std::floor(mesh[n] / dt * (1 + 1e-12)));
+    if (k <= 0 || k >= g.steps()) continue;
+    const collocation::TrajectoryPoint p = traj.at(g.t[k], Side::Before);
+    g.restarts[k] = {p.q, p.v};
+  }
 }
 
 // The optimised events: closings on the grid, impacts from the velocity jumps (put on the scene
@@ -321,6 +344,7 @@ EngineReplay replayIn(EngineKind which, const scene::Scene& scene, const colloca
   long k = 0;
   try {
     for (; k < n_steps; ++k) {
+      if (const auto r = grid.restarts.find(k); r != grid.restarts.end()) engine->reset(r->second.first, r->second.second, grid.t[k]);
       tau = tau_base;
       for (int i = 0; i < nu; ++i) {
         const int coord = problem.inputs[i];
@@ -418,7 +442,8 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
   R.steps = n_steps;
   R.stride = static_cast<int>((n_steps + options.max_series - 1) / options.max_series);
   ContactKinematics kin(tr);
-  const OptimisedGrid grid = optimisedOnGrid(solution, traj, options.dt, n_steps, kin);
+  OptimisedGrid grid = optimisedOnGrid(solution, traj, options.dt, n_steps, kin);
+  if (options.restart == Restart::Mesh) addRestarts(grid, traj, options.dt);
   for (long k = 0; k <= n_steps; ++k) {
     if (k % R.stride != 0 && k != n_steps) continue;
     R.t.push_back(grid.t[k]);

@@ -28,6 +28,15 @@
 // the mass: the defaults (100, 20) are critically damped for a unit mass or inertia (ω = 10 rad/s,
 // well resolved by any dt ≤ 1e-2).
 //
+// Restarts (Restart::Mesh): the replay starts again from the optimised state at every mesh point
+// after the first, so each element's motion is checked from its own start and a small error does
+// not grow through an unstable motion (a biped balancing on one foot, open loop, strays by metres
+// within a second whatever the solution's accuracy: multiple shooting in place of single
+// shooting). At mesh time t_n the engine is reset, at the start of the last step k with
+// t_k ≤ t_n, to the optimised state at t_k before any jump (Side::Before), so the engine itself
+// must produce the impulse at t_n: an impulse in mid-air still shows. The deviation then measures
+// one element's worth of error; events are recorded as without restarts.
+//
 // Deviation, after every step at t_k: q − q*(t_k) and v − v*(t_k) per coordinate, with the
 // optimised state the collocation polynomials' (CollocationTrajectory::at, Side::After: at a
 // velocity jump the right limit). Per coordinate: the maximum |·|, the final value |·| at the
@@ -72,6 +81,10 @@ enum class Feedback { None, Pd };
 const char* feedbackName(Feedback feedback);  // "none", "pd"
 Feedback parseFeedback(const std::string& name);  // throws std::invalid_argument
 
+enum class Restart { None, Mesh };
+const char* restartName(Restart restart);  // "none", "mesh"
+Restart parseRestart(const std::string& name);  // throws std::invalid_argument
+
 struct ReplayOptions {
   std::vector<EngineKind> engines{EngineKind::Saltus};
   double dt = 1e-4;
@@ -80,6 +93,7 @@ struct ReplayOptions {
   double theta = 0.5;
   Feedback feedback = Feedback::None;
   double kp = 100, kd = 20;
+  Restart restart = Restart::None;  // Mesh: from the optimised state at every mesh point (above)
   // On the maximum position deviation [m or rad]; 0: tolerance_speed × dt (1 mm or 1 mrad at
   // the default dt). A replay differs from a feasible solution at first order in dt: an impact
   // or a belt step is resolved up to one step late, shifting the position by up to |Δv| dt, and

@@ -116,7 +116,7 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              set: Parameters = ...) -> Solution: ...
 
 def replay(solution: str, *, out: str = "", engine: str = "saltus", dt: float = 1e-4, theta: float = 0.5,
-           feedback: str = "none", kp: float = 100.0, kd: float = 20.0, tolerance: float = 0.0,
+           feedback: str = "none", kp: float = 100.0, kd: float = 20.0, restart: str = "none", tolerance: float = 0.0,
            charts: bool = True, allow_changed_problem: bool = False) -> Dict[str, Any]: ...
 
 def render(trajectory: str, *, video: str = "", frames: str = "", scene: Union[Scene, str, None] = None,

@@ -217,6 +217,43 @@ TEST(Replay, InputReplayAndAWrongInputCaughtByTheTolerance) {
   EXPECT_LT(tracked.engines[0].max_position_deviation, 0.05 / 100);
 }
 
+// Restart::Mesh: each element replayed from its own optimised start. A constant 0.05 N too much
+// on the 1 kg block of push_block strays 0.5 · 0.05 · t² from where the replay last started: open
+// loop 0.5 · 0.05 · T² (T = 0.3 s) at the end, with restarts 0.5 · 0.05 · h² (h = 0.03 s, its
+// ten equal elements), (T / h)² = 100 times less. The drop's bounce at a mesh point is still the
+// engine's own: the restart before it takes the state before the jump, and the impact matches.
+TEST(Replay, MeshRestartsBoundTheDeviationByOneElement) {
+  const SavedSolution& s = pushSolution();
+  const double T = 0.3, h = 0.03, a = 0.05;
+  ReplayOptions o = replayOptions({EngineKind::Saltus});
+  o.input_offset = Eigen::VectorXd::Constant(1, a);
+  const ReplayResult open = replay(s, o);
+  o.restart = Restart::Mesh;
+  const ReplayResult restarted = replay(s, o);
+  ASSERT_EQ(restarted.mesh_times.size(), 11u);
+  for (std::size_t n = 1; n < restarted.mesh_times.size(); ++n)
+    ASSERT_NEAR(restarted.mesh_times[n] - restarted.mesh_times[n - 1], h, 1e-9);
+  const EngineReplay& E = restarted.engines[0];
+  ASSERT_TRUE(E.completed) << E.message;
+  EXPECT_NEAR(open.engines[0].max_position_deviation, 0.5 * a * T * T, 1e-5);
+  // Each restart at the last step at or before its mesh time: a segment is h plus at most dt.
+  EXPECT_NEAR(E.max_position_deviation, 0.5 * a * h * h, 0.5 * a * (2 * h * o.dt + o.dt * o.dt) + 1e-7);
+  EXPECT_NEAR(E.max_velocity_deviation, a * h, a * o.dt + 1e-6);
+  EXPECT_NEAR(E.final_position_deviation, 0.5 * a * h * h, 0.5 * a * (2 * h * o.dt + o.dt * o.dt) + 1e-7);
+
+  ReplayOptions d = replayOptions({EngineKind::Saltus});
+  d.restart = Restart::Mesh;
+  const ReplayResult bounce = replay(dropSolution(), d);
+  const EngineReplay& B = bounce.engines[0];
+  ASSERT_TRUE(B.completed) << B.message;
+  EXPECT_TRUE(B.within_tolerance) << B.max_position_deviation;
+  EXPECT_EQ(matchedEvents(B), static_cast<int>(bounce.optimised_events.size()));
+  EXPECT_NEAR(B.energy_end, 0.5 * 0.5 * 9.81 * 0.1, 2e-3);  // e² of the drop's energy: the engine bounced
+  EXPECT_EQ(parseRestart("mesh"), Restart::Mesh);
+  EXPECT_STREQ(restartName(Restart::None), "none");
+  EXPECT_THROW(parseRestart("element"), std::invalid_argument);
+}
+
 TEST(Replay, RefusesBadOptions) {
   const SavedSolution& s = pushSolution();
   ReplayOptions o = replayOptions({EngineKind::Saltus});
