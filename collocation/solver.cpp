@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 #include <dlfcn.h>
@@ -178,6 +180,9 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   r.largest_product = t.largestProduct(x_out, &r.largest_product_at);
   const Eigen::VectorXd g = nlp->constraints(x_out);
   r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
+  // Eigen's maxCoeff passes over NaN: a point that is not finite is nowhere near feasible.
+  if (!x_out.allFinite() || !g.allFinite()) r.largest_violation = std::numeric_limits<double>::infinity();
+  if (!std::isfinite(r.largest_product)) r.largest_product = std::numeric_limits<double>::infinity();
   report.jacobian_nonzeros = nlp->jacobianNonzeros();
   report.hessian_nonzeros = nlp->hessianNonzeros();
   return r;
