@@ -223,6 +223,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
       // The feasibility stage's point satisfies every constraint of the problem (hints only add
       // bounds): a valid trajectory, whose task cost the failed stage did not minimise.
       x = x1;
+      t.tightenMaxVariable(x);
       report.note = "the task stage ended " + second.status + " at an infeasible point; kept the feasibility stage's solution";
     }
   }
@@ -246,6 +247,9 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.largest_product = t.largestProduct(x, &report.largest_product_at);
   report.largest_violation = end.largest_violation;
   report.objective = end.objective;
+  // A kept feasibility-stage point of a task problem: its task-stage objective (the task cost and
+  // the weighted penalty), comparable with a task stage's.
+  if (kept == 0 && has_task) report.objective = Nlp(t, Stage::Task, x).cost(x);
   for (const StageReport& s : report.stages) {
     report.wall_seconds += s.wall_seconds;
     report.evaluation_seconds += s.evaluation_seconds;

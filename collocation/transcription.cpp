@@ -1,6 +1,7 @@
 #include "collocation/transcription.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -389,7 +390,7 @@ void Transcription::buildProblemConstraints() {
     }
   }
   if (x_max_ >= 0) {
-    const int i = cost.max_coordinate;
+    const int i = cost.max_coordinate;  // tightenMaxVariable: the same points
     for (int n = 0; n < elements(); ++n)
       for (std::size_t p = 0; p < layout_[n].points.size(); ++p)
         addBlock(std::make_shared<LinearFunction>(Eigen::Vector2d(1, -1)), {layout_[n].points[p].q + i, x_max_},
@@ -569,6 +570,15 @@ Eigen::VectorXd Transcription::perturb(const Eigen::VectorXd& x0, double scale, 
   }
   makeConsistent(x);
   return x;
+}
+
+void Transcription::tightenMaxVariable(Eigen::VectorXd& x) const {
+  if (x_max_ < 0) return;
+  const int i = problem_.cost.max_coordinate;
+  double largest = -std::numeric_limits<double>::infinity();
+  for (const ElementLayout& L : layout_)
+    for (const auto& point : L.points) largest = std::max(largest, x[point.q + i]);
+  x[x_max_] = largest;
 }
 
 }  // namespace saltus::collocation

@@ -142,6 +142,10 @@ class Transcription {
   // Gap variables set from the positions (clipped at 0), variables projected into bounds, and
   // each penalty variable ε set to its product A·B (at least 0).
   void makeConsistent(Eigen::VectorXd& x) const;
+  // The minimise-max variable x_m set to the largest value of its coordinate over the points: its
+  // least value that meets q_i ≤ x_m, which is the task cost of a point whose stage did not
+  // minimise it (a feasibility stage's). Nothing without a minimise-max cost.
+  void tightenMaxVariable(Eigen::VectorXd& x) const;
 
  private:
   int addVariables(int count, double lower, double upper, const std::string& name);

@@ -32,9 +32,12 @@ constexpr double kPivotTolerance = 1e-11;
 constexpr double kTieTolerance = 1e-11;
 // Lemke's result counts as Solved when each w_i is within this fraction of |q_i| + (|M| z)_i
 // of satisfying the LCP, give or take the floor: this fraction of the largest such magnitude in
-// equilibrated units (see the end of solveLemke).
+// equilibrated units (see the end of solveLemke). The floor sits above the pivot tolerance:
+// pivoting treats entries within 1e-11 of their scale as zeros, so it cannot correct a w_i of
+// that size (at 1e-12 the monopod's seed failed solved LCPs with a lateral friction row at
+// w_i = −1.5e-11 against terms of 21 m/s).
 constexpr double kLemkeAcceptance = 1e-9;
-constexpr double kLemkeFloor = 1e-12;
+constexpr double kLemkeFloor = 1e-10;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
@@ -159,8 +162,11 @@ void LcpSolver::equilibrate(const ConstMatrixRef& M, int n) {
 }
 
 LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
-                                Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
+                                Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots,
+                                const Eigen::VectorXd* q_scale) {
   checkSizes(M_original, q_original, z, w);
+  if (q_scale && q_scale->size() < q_original.size())
+    throw std::invalid_argument("solveLemke: q_scale has fewer entries than q");
   const int n = static_cast<int>(q_original.size());
   if (max_pivots <= 0) max_pivots = 50 * n + 100;
   if (!M_original.allFinite() || !q_original.allFinite()) return nonFinite(z, w, 0);
@@ -338,7 +344,7 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
     const int v = basic_variable_[i];
     if (v >= n && v < z0) z[v - n] = std::max(0.0, column_scaling[v - n] * x[i]);
   }
-  const Acceptance acceptance = accept(M_original, q_original, z, w);
+  const Acceptance acceptance = accept(M_original, q_original, z, w, q_scale);
   if (acceptance == Acceptance::NonFinite) return nonFinite(z, w, pivots);
   if (acceptance == Acceptance::Accepted) status = LcpStatus::Solved;
   else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
@@ -348,14 +354,15 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
 // w = M z + q from the original data, and whether z, w pass the check (lcp.hpp, solveLemke).
 // Needs row_scaling_ of the equilibration of M.
 LcpSolver::Acceptance LcpSolver::accept(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
-                                        const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w) {
+                                        const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w,
+                                        const Eigen::VectorXd* q_scale) {
   const int n = static_cast<int>(q_original.size());
   const double* const row_scaling = row_scaling_.data();
   // The magnitude |q| + |M| z of the terms summed into each w_i.
   double* const w_magnitude = row_norm_.data();
   for (int i = 0; i < n; ++i) {
     w[i] = q_original[i];
-    w_magnitude[i] = std::abs(q_original[i]);
+    w_magnitude[i] = std::abs(q_original[i]) + (q_scale ? std::abs((*q_scale)[i]) : 0.0);
   }
   for (int j = 0; j < n; ++j) {
     if (z[j] == 0) continue;
@@ -387,15 +394,18 @@ LcpSolver::Acceptance LcpSolver::accept(const ConstMatrixRef& M_original, const 
 }
 
 LcpResult LcpSolver::solveLemkeWarm(const ConstMatrixRef& M_original, const ConstVectorRef& q_original,
-                                    Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots) {
+                                    Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots,
+                                    const Eigen::VectorXd* q_scale) {
   checkSizes(M_original, q_original, z, w);
+  if (q_scale && q_scale->size() < q_original.size())
+    throw std::invalid_argument("solveLemkeWarm: q_scale has fewer entries than q");
   const int n = static_cast<int>(q_original.size());
   if (!M_original.allFinite() || !q_original.allFinite()) return nonFinite(z, w, 0);
   // The guessed index set P = {i : z_i > 0}; none (or the trivial solution z = 0): cold start.
   int p = 0;
   for (int i = 0; i < n; ++i)
     if (z[i] > 0) tied_rows_[p++] = i;
-  if (p == 0 || q_original.minCoeff() >= 0) return solveLemke(M_original, q_original, z, w, max_pivots);
+  if (p == 0 || q_original.minCoeff() >= 0) return solveLemke(M_original, q_original, z, w, max_pivots, q_scale);
 
   // M̂_PP ẑ_P = −q̂_P on the equilibrated problem, by Gaussian elimination with partial pivoting
   // (Golub & Van Loan, Alg. 3.4.1) in the workspace of B⁻¹; a pivot below round-off of its
@@ -445,10 +455,10 @@ LcpResult LcpSolver::solveLemkeWarm(const ConstMatrixRef& M_original, const Cons
       nonnegative = nonnegative && x[j] >= 0;
       z[set[j]] = std::max(0.0, column_scaling_[set[j]] * x[j]);
     }
-    if (nonnegative && accept(M_original, q_original, z, w) == Acceptance::Accepted)
+    if (nonnegative && accept(M_original, q_original, z, w, q_scale) == Acceptance::Accepted)
       return {LcpStatus::Solved, 0, complementarityResidual(z, w)};
   }
-  return solveLemke(M_original, q_original, z, w, max_pivots);
+  return solveLemke(M_original, q_original, z, w, max_pivots, q_scale);
 }
 
 LcpResult LcpSolver::solvePgs(const ConstMatrixRef& M, const ConstVectorRef& q, Eigen::Ref<Eigen::VectorXd> z,

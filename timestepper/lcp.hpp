@@ -61,9 +61,13 @@ class LcpSolver {
   // |q_i| + (|M| z)_i (a solution of a slightly perturbed LCP) plus a round-off floor; a basis
   // that passes is Solved even when the pivoting ended on a ray or at max_pivots with z0 at
   // round-off level. Otherwise z is the last basic solution without z0 and w = M z + q.
-  // max_pivots = 0 means 50 n + 100.
+  // max_pivots = 0 means 50 n + 100. q_scale (optional, size n): the magnitude of the terms each
+  // q_i was summed from, Σ_j |J_ij| |v_j| for a contact velocity: a q_i computed as 1e-13 from
+  // terms of 1 m/s is round-off, and the check then allows 1e-9 of that scale (without it, the
+  // monopod's lateral friction row, q_i = −1.3e-13, failed a solved LCP).
   LcpResult solveLemke(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
-                       Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
+                       Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0,
+                       const Eigen::VectorXd* q_scale = nullptr);
 
   // Lemke warm-started from a guess z (on entry, as for solvePgs): the complementary basis with
   // z_i basic where the guess is positive (index set P) and w_i basic elsewhere is tried first,
@@ -75,7 +79,8 @@ class LcpSolver {
   // several solutions (e.g. the split of a sticking impulse between opposite cone directions)
   // the one returned may differ from solveLemke's.
   LcpResult solveLemkeWarm(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
-                           Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0);
+                           Eigen::Ref<Eigen::VectorXd> z, Eigen::Ref<Eigen::VectorXd> w, int max_pivots = 0,
+                           const Eigen::VectorXd* q_scale = nullptr);
 
   // Projected Gauss–Seidel / SOR (CPS chapter 5), warm-started from z (negative entries are
   // projected to 0): z_i ← max(0, z_i − ω w_i / d_i) row by row, w updated along.
@@ -102,8 +107,10 @@ class LcpSolver {
                   const Eigen::Ref<Eigen::VectorXd>& z, const Eigen::Ref<Eigen::VectorXd>& w) const;
   enum class Acceptance { Accepted, Rejected, NonFinite };
   // w = M z + q and the acceptance check of solveLemke's result; needs equilibrate(M).
+  // q_scale: as solveLemke's (nullptr: |q_i|).
   Acceptance accept(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
-                    const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w);
+                    const Eigen::Ref<Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> w,
+                    const Eigen::VectorXd* q_scale);
   // Ruiz equilibration M̂ = D_r M D_c of M (see lcp.cpp) into scaled_matrix_, q̂ = D_r q.
   void equilibrate(const Eigen::Ref<const Eigen::MatrixXd>& M, int n);
 

@@ -73,6 +73,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   surface_velocity_.resize(f_max);
   A_.setZero(nz_max, nz_max);
   b_.resize(nz_max);
+  b_scale_.resize(nz_max);
   z_.resize(nz_max);
   w_.resize(nz_max);
   solver_ = LcpSolver(nz_max);
@@ -214,6 +215,18 @@ void TimeStepper::solveLcp(int nz, double h) {
       b_[r] += active_gap_[r] / (options_.theta * h);
   }
   if (f > 0) b_.segment(m, f) -= surface_velocity_.head(f);
+  // Round-off scale of b: Σ_j |J_rj| |v_j| and the other terms' magnitudes (cone rows: 0).
+  b_scale_.head(nz).setZero();
+  for (int r = 0; r < m + f; ++r) {
+    const bool impact = r < m && active_e_[r] > 0;
+    const Eigen::VectorXd& v = impact ? v_ : v_free_;
+    double s = 0;
+    for (int j = 0; j < J_.cols(); ++j) s += std::abs(J_(r, j)) * std::abs(v[j]);
+    if (impact) s *= 1 + active_e_[r];
+    else if (r < m && active_gap_[r] > 0 && h > 0) s += active_gap_[r] / (options_.theta * h);
+    if (r >= m) s += std::abs(surface_velocity_[r - m]);
+    b_scale_[r] = s;
+  }
   // Cone rows: E couples β_ij to λ_i, μ p_n − Σ β ≥ 0.
   int row = m + f, col = m;
   for (int r = 0; r < m; ++r) {
@@ -235,10 +248,10 @@ void TimeStepper::solveLcp(int nz, double h) {
   if (options_.solver == LcpMethod::Lemke) {
     // The previous step's solution is a guess for the same active contacts (z_ still holds it).
     if (options_.warm_start && active_ == solved_active_) {
-      result = solver_.solveLemkeWarm(A, b_.head(nz), z, w);
+      result = solver_.solveLemkeWarm(A, b_.head(nz), z, w, 0, &b_scale_);
       stats_.lcp_warm_solves += result.status == LcpStatus::Solved && result.iterations == 0;
     } else
-      result = solver_.solveLemke(A, b_.head(nz), z, w);
+      result = solver_.solveLemke(A, b_.head(nz), z, w, 0, &b_scale_);
     solved_active_ = active_;
   } else {
     z.setZero();

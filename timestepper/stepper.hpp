@@ -192,6 +192,7 @@ class TimeStepper {
   Eigen::VectorXd impulse_;                  // Jᵀ z, then M⁻¹ Jᵀ z
   Eigen::MatrixXd A_;                        // LCP matrix
   Eigen::VectorXd b_, z_, w_;                // LCP vector and solution
+  Eigen::VectorXd b_scale_;                  // magnitude of the terms summed into each b_ (round-off scale)
   LcpSolver solver_;
   int m_ = 0, f_ = 0;                        // active normal rows, friction rows
   std::vector<ContactReport> reports_;

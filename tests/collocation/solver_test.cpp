@@ -435,6 +435,21 @@ TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   EXPECT_TRUE(c.converged);
   // x_m is the largest height: the drop's start, 0.1 m.
   EXPECT_NEAR(c.objective, 0.1, 1e-3);
+
+  // A feasibility stage's point leaves x_m anywhere above the heights: tightened, it is the
+  // largest height, and the task objective there is x_m plus the (tiny) weighted penalty.
+  Eigen::VectorXd x = r.x;
+  const auto names = t.variableNames();
+  const int x_m = static_cast<int>(std::find(names.begin(), names.end(), "x_max") - names.begin());
+  ASSERT_LT(x_m, t.variables());
+  x[x_m] = 7.0;
+  t.tightenMaxVariable(x);
+  double highest = 0;
+  for (const ElementLayout& L : t.layout())
+    for (const auto& point : L.points) highest = std::max(highest, x[point.q]);
+  EXPECT_DOUBLE_EQ(x[x_m], highest);
+  EXPECT_NEAR(x[x_m], 0.1, 1e-9);
+  EXPECT_NEAR(Nlp(t, Stage::Task, x).cost(x), 0.1, 1e-3);
 }
 
 // Without a task cost a solve that Ipopt solved is converged; a feasibility stage stopped by its

@@ -392,6 +392,45 @@ TEST(Lemke, InfeasibleLcpsEndOnASecondaryRay) {
   }
 }
 
+// A contact LCP of the monopod's simulation seed (one foot, k = 4, μ = 0.6; rows p_n, β_1..4, λ):
+// the foot sticks, and the lateral friction rows carry round-off, q = ∓5.5e-12 m/s against terms
+// of up to 21 m/s. Pivoting treats such entries as zeros, so the basis leaves w of that size;
+// it is a solution (of an LCP perturbed at round-off) and must be accepted. A real lateral slip
+// of 1e-6 m/s in the same LCP is pivoted on and stopped by the friction.
+TEST(Lemke, AcceptsRoundOffInAFrictionRowOfAStickingContact) {
+  const double e = 1.15626917618962e-11, f = 2.32011995863909e-11;
+  const MatrixXd M = (MatrixXd(6, 6) << 0.488752197086101, 1.59046126132941, -e, -1.59046126132941, e, 0,  //
+                      1.59046126132941, 8.0204362186736, -f, -8.0204362186736, f, 1,                      //
+                      -e, -f, 3.6395256780623, f, -3.6395256780623, 1,                                    //
+                      -1.59046126132941, -8.0204362186736, f, 8.0204362186736, -f, 1,                     //
+                      e, f, -3.6395256780623, -f, 3.6395256780623, 1,                                     //
+                      0.6, -1, -1, -1, -1, 0)
+                         .finished();
+  VectorXd q = (VectorXd(6) << -0.126394401586447, 0.92819931874574, -5.53584469352666e-12, -0.92819931874574,
+                5.5357310218942e-12, 0)
+                   .finished();
+  LcpSolver solver(6);
+  const auto check = [&](const Solution& s, double tolerance) {
+    ASSERT_EQ(s.result.status, LcpStatus::Solved) << toString(s.result.status);
+    const VectorXd w = M * s.z + q;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_GE(s.z[i], 0.0) << i;
+      EXPECT_GE(w[i], -tolerance) << i;
+      EXPECT_LE(std::min(s.z[i], std::abs(w[i])), tolerance) << i;
+    }
+    EXPECT_LE(s.z[1] + s.z[2] + s.z[3] + s.z[4], 0.6 * s.z[0] + tolerance) << "inside the cone";
+  };
+  const Solution stuck = lemke(solver, M, q);
+  check(stuck, 1e-9 * 21);
+  EXPECT_GT(stuck.z[0], 0.0);
+  EXPECT_GT(stuck.z[5] + (M * stuck.z + q)[5], 0.0);
+
+  q[2] = -1e-6, q[4] = 1e-6;  // a lateral slip: friction answers on row 2
+  const Solution slip = lemke(solver, M, q);
+  check(slip, 1e-12);
+  EXPECT_GT(slip.z[2], 0.0);
+}
+
 TEST(Lemke, StopsAtThePivotLimit) {
   std::mt19937 rng(107);
   LcpSolver solver(20);
