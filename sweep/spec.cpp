@@ -11,6 +11,7 @@
 #include "collocation/problem_file.hpp"
 #include "collocation/transcription.hpp"
 #include "scene/yaml_reader.hpp"
+#include "verify/replay.hpp"
 
 namespace saltus::sweep {
 
@@ -116,9 +117,11 @@ void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
   }
   if (n["restart"]) {
     const std::string restart = r.text(n["restart"], "replay.restart");
-    if (restart != "none" && restart != "mesh")
-      r.fail(n["restart"], "replay.restart", "expected none or mesh, got '" + restart + "'");
-    c.restart_at_mesh = restart == "mesh";
+    try {
+      c.restart_at_mesh = verify::parseRestart(restart) == verify::Restart::Mesh;
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["restart"], "replay.restart", e.what());
+    }
   }
 }
 
