@@ -20,6 +20,7 @@
 #include "cli/common.hpp"
 #include "cli/simulation.hpp"
 #include "cli/sweep.hpp"
+#include "collocation/solver.hpp"
 #include "sweep/runner.hpp"
 
 namespace saltus::cli {
@@ -84,7 +85,8 @@ std::string report(const std::string& spec_file, const std::vector<SweepCase>& c
      << "Spec `" << spec_file << "`; " << records.size() << " of " << cases.size() << " solves have a record"
      << (records.size() < cases.size() ? " (the sweep is not finished: run the same command again)" : "") << ".\n\n"
      << "A solve succeeds when it is feasible (at its solution every complementarity product is at most the "
-        "problem's tolerance and every constraint holds within 1e-5) and physically right (its replay in Saltus' time-stepper stays within the "
+        "problem's tolerance and every constraint holds within "
+     << formatValue(collocation::SolveOptions{}.violation_tolerance) << ") and physically right (its replay in Saltus' time-stepper stays within the "
         "replay tolerance). Converged: feasible, and Ipopt solved the stage the solution comes from (a task stage "
         "stopped by its iteration limit at a feasible point is feasible, not converged). Time, iterations, mean local error and cost are over the successful solves: median "
         "[first quartile, third quartile].\n\n"
