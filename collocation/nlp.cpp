@@ -1,6 +1,7 @@
 #include "collocation/nlp.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -109,15 +110,20 @@ bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool
   return true;
 }
 
-bool Nlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
-  Timer timer(eval_seconds_);
-  obj_value = 0;
+double Nlp::objectiveAt(const Ipopt::Number* x) {
+  double f = 0;
   for (const Block& b : t_.blocks()) {
     const double w = b.isCost() ? weight(b) : 0.0;
     if (w == 0) continue;
     b.f->value(gather(b, x), local_y_.data());
-    obj_value += w * local_y_[0];
+    f += w * local_y_[0];
   }
+  return f;
+}
+
+bool Nlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
+  Timer timer(eval_seconds_);
+  obj_value = objectiveAt(x);
   return true;
 }
 
@@ -139,7 +145,24 @@ bool Nlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt
     if (b.isCost()) continue;
     b.f->value(gather(b, x), g + b.row);
   }
+  if (best_violation_tolerance_ >= 0) considerFeasible(x, g);
   return true;
+}
+
+void Nlp::considerFeasible(const Ipopt::Number* x, const Ipopt::Number* g) {
+  const Eigen::Map<const Eigen::VectorXd> gv(g, t_.constraints());
+  // Written so that NaN fails every comparison.
+  for (int i = 0; i < gv.size(); ++i)
+    if (!(gv[i] >= t_.constraintLower()[i] - best_violation_tolerance_ &&
+          gv[i] <= t_.constraintUpper()[i] + best_violation_tolerance_))
+      return;
+  const double f = objectiveAt(x);
+  if (!std::isfinite(f) || (hasBestFeasible() && f >= best_objective_)) return;
+  const Eigen::Map<const Eigen::VectorXd> xv(x, t_.variables());
+  if (!xv.allFinite() || !(t_.largestProduct(xv) <= best_product_tolerance_)) return;
+  best_x_ = xv;
+  best_objective_ = f;
+  best_iteration_ = iteration_ + 1;
 }
 
 bool Nlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Index nele_jac,

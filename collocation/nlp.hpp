@@ -69,8 +69,23 @@ class Nlp : public Ipopt::TNLP {
                              Ipopt::Number regularization_size, Ipopt::Number alpha_du, Ipopt::Number alpha_pr,
                              Ipopt::Index ls_trials, const Ipopt::IpoptData* ip_data,
                              Ipopt::IpoptCalculatedQuantities* ip_cq) override {
+    iteration_ = iter;
     return !(interrupted_ && interrupted_());
   }
+
+  // Keeps, among the points at which Ipopt evaluates the constraints (iterates and line-search
+  // trials alike), the one of lowest objective whose products are within `product_tolerance`
+  // and whose constraints are within `violation_tolerance` of their bounds: a valid trajectory
+  // even when the stage ends away from the feasible set. Ipopt's iterates stay within the
+  // variables' bounds (relaxed by bound_relax_factor, 1e-8), so the constraints are what is checked.
+  void keepBestFeasible(double product_tolerance, double violation_tolerance) {
+    best_product_tolerance_ = product_tolerance;
+    best_violation_tolerance_ = violation_tolerance;
+  }
+  bool hasBestFeasible() const { return best_x_.size() > 0; }
+  const Eigen::VectorXd& bestFeasible() const { return best_x_; }
+  double bestFeasibleObjective() const { return best_objective_; }
+  int bestFeasibleIteration() const { return best_iteration_; }  // the iteration it was a trial of
 
   // The same evaluations for tests (dense, no Ipopt).
   double cost(const Eigen::VectorXd& x);
@@ -80,6 +95,8 @@ class Nlp : public Ipopt::TNLP {
 
  private:
   double weight(const Block& b) const;  // cost weight of a block in this stage (0: not in the cost)
+  double objectiveAt(const Ipopt::Number* x);
+  void considerFeasible(const Ipopt::Number* x, const Ipopt::Number* g);
   const double* gather(const Block& b, const Ipopt::Number* x);
 
   const Transcription& t_;
@@ -94,6 +111,11 @@ class Nlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   double objective_ = 0;
   double eval_seconds_ = 0;
+  int iteration_ = -1;  // of the last intermediate callback
+  double best_product_tolerance_ = -1, best_violation_tolerance_ = -1;  // < 0: not kept
+  Eigen::VectorXd best_x_;
+  double best_objective_ = 0;
+  int best_iteration_ = -1;
 };
 
 }  // namespace saltus::collocation

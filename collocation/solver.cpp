@@ -163,6 +163,8 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
 
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
   nlp->setInterruption(options.interrupted);
+  const double tolerance = t.problem().complementarity_tolerance;
+  if (stage == Stage::Task) nlp->keepBestFeasible(tolerance, options.violation_tolerance);
   const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
@@ -177,12 +179,29 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   x_out = nlp->solution().size() == t.variables() ? nlp->solution() : x0;
   multipliers_out = nlp->multipliers();
   r.objective = nlp->solution().size() == t.variables() ? nlp->objective() : 0;
-  r.largest_product = t.largestProduct(x_out, &r.largest_product_at);
-  const Eigen::VectorXd g = nlp->constraints(x_out);
-  r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
-  // Eigen's maxCoeff passes over NaN: a point that is not finite is nowhere near feasible.
-  if (!x_out.allFinite() || !g.allFinite()) r.largest_violation = std::numeric_limits<double>::infinity();
-  if (!std::isfinite(r.largest_product)) r.largest_product = std::numeric_limits<double>::infinity();
+  const auto measure = [&] {
+    r.largest_product = t.largestProduct(x_out, &r.largest_product_at);
+    const Eigen::VectorXd g = nlp->constraints(x_out);
+    r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
+    // Eigen's maxCoeff passes over NaN: a point that is not finite is nowhere near feasible.
+    if (!x_out.allFinite() || !g.allFinite()) r.largest_violation = std::numeric_limits<double>::infinity();
+    if (!std::isfinite(r.largest_product)) r.largest_product = std::numeric_limits<double>::infinity();
+  };
+  measure();
+  // A stage Ipopt did not solve (iteration or time limit, restoration failure) may end away
+  // from the feasible set, or at a feasible point worse than one it passed: its result is then
+  // the best feasible point it evaluated (its starting point among them). On the biped's task
+  // stage, which wanders 1e-4–1e-2 off the constraints while it lowers x_m, this keeps what it
+  // gained (README).
+  const bool end_feasible = r.largest_product <= tolerance && r.largest_violation <= options.violation_tolerance;
+  if (nlp->hasBestFeasible() && !(r.succeeded && end_feasible) &&
+      (!end_feasible || nlp->bestFeasibleObjective() < nlp->cost(x_out))) {
+    x_out = nlp->bestFeasible();
+    r.objective = nlp->bestFeasibleObjective();
+    r.kept_iteration = nlp->bestFeasibleIteration();
+    multipliers_out = {};  // the end point's, not this point's
+    measure();
+  }
   report.jacobian_nonzeros = nlp->jacobianNonzeros();
   report.hessian_nonzeros = nlp->hessianNonzeros();
   return r;
@@ -211,6 +230,9 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task = (has_task || !t.problem().hints.empty()) && !report.interrupted;
   if (task && (first.succeeded || first_feasible)) {
+    // x_m is not in the feasibility stage's cost, and the barriers of q ≤ x_m push it up (to 1e5 m
+    // on the drop): the task stage starts from the largest coordinate instead.
+    t.tightenMaxVariable(x);
     const Eigen::VectorXd x1 = x;
     // The multipliers help only near a solution: the feasibility stage's are those of a point
     // of the real problem when its products are within the tolerance.
@@ -219,11 +241,15 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const StageReport& second = report.stages.back();
     if (feasibleEnd(second) || !first_feasible || report.interrupted) {
       kept = 1;
+      if (second.kept_iteration >= 0) {
+        t.tightenMaxVariable(x);
+        report.note = "the task stage ended " + second.status + "; kept the best feasible point it evaluated (a trial of iteration " +
+                      std::to_string(second.kept_iteration) + ")";
+      }
     } else {
       // The feasibility stage's point satisfies every constraint of the problem (hints only add
       // bounds): a valid trajectory, whose task cost the failed stage did not minimise.
       x = x1;
-      t.tightenMaxVariable(x);
       report.note = "the task stage ended " + second.status + " at an infeasible point; kept the feasibility stage's solution";
     }
   }
@@ -237,6 +263,9 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const StageReport& second = report.stages.back();
     if (feasibleEnd(second)) {
       kept = 1;
+      if (second.kept_iteration >= 0)
+        report.note = "the tightening stage ended " + second.status + "; kept the best feasible point it evaluated (a trial of iteration " +
+                      std::to_string(second.kept_iteration) + ")";
     } else {
       x = x1;
       report.note = "the tightening stage ended " + second.status + "; kept the feasibility stage's point";
@@ -249,7 +278,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.objective = end.objective;
   // A kept feasibility-stage point of a task problem: its task-stage objective (the task cost and
   // the weighted penalty), comparable with a task stage's.
-  if (kept == 0 && has_task) report.objective = Nlp(t, Stage::Task, x).cost(x);
+  if ((kept == 0 || end.kept_iteration >= 0) && has_task) report.objective = Nlp(t, Stage::Task, x).cost(x);
   for (const StageReport& s : report.stages) {
     report.wall_seconds += s.wall_seconds;
     report.evaluation_seconds += s.evaluation_seconds;
@@ -258,7 +287,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.feasible = !report.interrupted && feasibleEnd(end);
   // Converged: Ipopt solved the stage whose point is kept, and that stage minimised the task
   // cost when there is one (a tightening stage only pulls products under the tolerance).
-  report.converged = report.feasible && end.succeeded && (!has_task || kept == 1);
+  report.converged = report.feasible && end.succeeded && end.kept_iteration < 0 && (!has_task || kept == 1);
   report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
 }

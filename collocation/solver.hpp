@@ -10,7 +10,8 @@
 // that stage minimised the task cost (when the problem has one). A task stage stopped by its
 // iteration limit at a feasible point gives a feasible, not converged, solution (a valid
 // trajectory whose cost is not proven locally minimal); one that ends at an infeasible point
-// leaves the feasibility stage's feasible point as the result, also not converged.
+// leaves the best feasible point it evaluated (or the feasibility stage's point) as the result,
+// also not converged.
 #pragma once
 
 #include <functional>
@@ -36,6 +37,9 @@ struct StageReport {
   double largest_violation = 0;   // of a constraint's bounds (before the products' ε), at its end
   double wall_seconds = 0;
   double evaluation_seconds = 0;  // in our function and derivative callbacks
+  // ≥ 0: the stage's result is not its end point but the best feasible point it evaluated, a
+  // trial of this iteration (0: its starting point); the task and tightening stages only.
+  int kept_iteration = -1;
 };
 
 // One attempt of a solve with restarts.

@@ -137,7 +137,8 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"largest_product", s.largest_product},
                            {"largest_violation", s.largest_violation},
                            {"wall_seconds", s.wall_seconds},
-                           {"evaluation_seconds", s.evaluation_seconds}});
+                           {"evaluation_seconds", s.evaluation_seconds},
+                           {"kept_iteration", s.kept_iteration}});
   for (const AttemptReport& a : r.attempts)
     j["attempts"].push_back({{"attempt", a.attempt},
                              {"random_seed", problem.random_seed + a.attempt},

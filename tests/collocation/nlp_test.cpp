@@ -9,6 +9,8 @@
 #include <random>
 
 #include "collocation/problem_file.hpp"
+#include "collocation/simulation_seed.hpp"
+#include "collocation/solver.hpp"
 #include "scene/scenario.hpp"
 #include "tests/support/problems.hpp"
 
@@ -240,6 +242,52 @@ TEST(Transcription, APointIsKeptOverItsBodysPlane) {
   const Problem drop_problem = testing::pointMassDrop(0.0);
   const Transcription drop(drop_problem, Method::Impulsive);
   for (const std::string& name : drop.constraintNames()) EXPECT_NE(name.rfind("extent.", 0), 0u) << name;
+}
+
+// Among the points at which the constraints are evaluated, the lowest objective within the
+// tolerances is kept: a lower objective off the constraints, a higher one on them, and a point
+// that is not finite leave it; a lower one on them replaces it.
+TEST(Nlp, KeepsTheBestFeasiblePointItEvaluates) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;  // minimise the largest height x_m
+  p.cost.max_weight = 1.0;
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions o;
+  o.warm_seed = true;
+  const SolveReport r = solve(t, seedFromSimulation(t), o);
+  ASSERT_TRUE(r.feasible) << r.stages.back().status;
+  const auto names = t.variableNames();
+  const int x_m = static_cast<int>(std::find(names.begin(), names.end(), "x_max") - names.begin());
+  ASSERT_LT(x_m, t.variables());
+  const double tolerance = p.complementarity_tolerance;
+
+  Nlp nlp(t, Stage::Task, r.x);
+  nlp.keepBestFeasible(tolerance, 1e-5);
+  EXPECT_FALSE(nlp.hasBestFeasible());
+  Eigen::VectorXd higher = r.x;
+  higher[x_m] += 0.05;  // x ≤ x_m still holds: feasible, 0.05 worse
+  nlp.constraints(higher);
+  ASSERT_TRUE(nlp.hasBestFeasible());
+  EXPECT_EQ(nlp.bestFeasible(), higher);
+  EXPECT_EQ(nlp.bestFeasibleIteration(), 0);  // before Ipopt's first iteration
+  nlp.constraints(r.x);  // better and feasible: replaces it
+  EXPECT_EQ(nlp.bestFeasible(), r.x);
+  EXPECT_NEAR(nlp.bestFeasibleObjective(), nlp.cost(r.x), 1e-15);
+  Eigen::VectorXd below = r.x;
+  below[x_m] -= 0.05;  // lower objective, but the start is 0.05 above x_m
+  nlp.constraints(below);
+  EXPECT_EQ(nlp.bestFeasible(), r.x);
+  Eigen::VectorXd nan = r.x;
+  nan[0] = std::nan("");
+  nlp.constraints(nan);
+  EXPECT_EQ(nlp.bestFeasible(), r.x);
+  nlp.constraints(higher);
+  EXPECT_EQ(nlp.bestFeasible(), r.x);
+
+  // Not kept unless asked for.
+  Nlp plain(t, Stage::Task, r.x);
+  plain.constraints(r.x);
+  EXPECT_FALSE(plain.hasBestFeasible());
 }
 
 }  // namespace

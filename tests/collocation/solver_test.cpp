@@ -404,6 +404,52 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
 // feasibility stage ends at a solution; a task stage allowed no iteration stops at that point
 // (Maximum_Iterations_Exceeded) and the result is the drop, feasible and not converged; allowed
 // its iterations, the task stage converges.
+// A task stage stopped after any number of iterations leaves a feasible point no worse than its
+// start (the best feasible point it evaluated, when its end is off the constraints or worse).
+// The mechanism itself: Nlp.KeepsTheBestFeasiblePointItEvaluates.
+TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions o;
+  o.warm_seed = true;
+  // A solution with x_m 0.4 m above the largest height, which the feasibility stage does not
+  // lower (it is not in the penalty): the task stage starts from x_m = 0.1 m, the largest height.
+  Eigen::VectorXd seed = solve(t, seedFromSimulation(t), o).x;
+  const auto names = t.variableNames();
+  const int x_m = static_cast<int>(std::find(names.begin(), names.end(), "x_max") - names.begin());
+  ASSERT_LT(x_m, t.variables());
+  seed[x_m] += 0.4;
+  o.task_max_iter = 0;
+  const double start = solve(t, seed, o).objective;
+  EXPECT_NEAR(start, 0.1, 1e-3);
+  int kept = 0;
+  double best = start;
+  for (int k : {1, 2, 4, 8}) {
+    o.task_max_iter = k;
+    const SolveReport r = solve(t, seed, o);
+    ASSERT_EQ(r.stages.size(), 2u);
+    EXPECT_TRUE(r.feasible) << k << " iterations: product " << r.largest_product << ", violation " << r.largest_violation;
+    EXPECT_LE(r.objective, start + 1e-12) << k;
+    // Checked again from the point itself.
+    Nlp nlp(t, Stage::Task, r.x);
+    const Eigen::VectorXd g = nlp.constraints(r.x);
+    EXPECT_LE(std::max((t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()), o.violation_tolerance) << k;
+    EXPECT_NEAR(nlp.cost(r.x), r.objective, 1e-12) << k;
+    best = std::min(best, r.objective);
+    if (r.stages[1].kept_iteration >= 0) {
+      ++kept;
+      EXPECT_FALSE(r.converged) << k;
+      EXPECT_LE(r.stages[1].kept_iteration, k);
+      EXPECT_NE(r.note.find("best feasible point"), std::string::npos) << r.note;
+    }
+  }
+  std::printf("task stage capped at 1, 2, 4, 8 iterations: objective %g from %g, %d kept an earlier point\n", best, start, kept);
+  // The drop's first task iterations leave its optimal start for worse or infeasible points.
+  EXPECT_GE(kept, 1);
+}
+
 TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   Problem p = loadProblem("point_mass_drop");
   p.cost.max_coordinate = 0;
