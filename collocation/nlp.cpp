@@ -20,6 +20,15 @@ class Timer {
 };
 }  // namespace
 
+const char* toString(Stage s) {
+  switch (s) {
+    case Stage::Feasibility: return "feasibility";
+    case Stage::Tighten: return "tighten";
+    case Stage::Task: return "task";
+  }
+  return "?";
+}
+
 Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start)
     : t_(t), stage_(stage), x0_(x0), start_(std::move(start)) {
   if (stage == Stage::Feasibility) {
@@ -69,7 +78,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
 double Nlp::weight(const Block& b) const {
   if (!b.isCost()) return 0.0;
   if (b.cost_group == kPenaltyCost)
-    return stage_ == Stage::Feasibility ? 1.0 : t_.problem().cost.penalty_weight;
+    return stage_ == Stage::Task ? t_.problem().cost.penalty_weight : 1.0;
   if (b.cost_group == kTaskCost) return stage_ == Stage::Task ? 1.0 : 0.0;
   return 0.0;
 }

@@ -1,7 +1,8 @@
 // The transcription (transcription.hpp) as an Ipopt TNLP for one stage of the two-stage solve
 // (paper §V.C): the feasibility stage minimises the complementarity penalty Σ ε with the hint
 // bounds applied; the task stage minimises the task cost plus the weighted penalty with every ε
-// bounded by the complementarity tolerance. Only the sparsity structure is stored: the Jacobian
+// bounded by the complementarity tolerance; a tightening stage in between minimises Σ ε so
+// bounded. Only the sparsity structure is stored: the Jacobian
 // and the Hessian of the Lagrangian are assembled from the blocks' dense local derivatives.
 #pragma once
 
@@ -16,7 +17,10 @@
 
 namespace saltus::collocation {
 
-enum class Stage { Feasibility, Task };
+// Feasibility: Σ ε with the hints' bounds. Tighten: Σ ε with every ε bounded (below), from a
+// feasibility stage's near miss. Task: the task cost and the weighted penalty, ε bounded.
+enum class Stage { Feasibility, Tighten, Task };
+const char* toString(Stage s);  // "feasibility", "tighten", "task"
 
 // The task stage bounds every ε by this fraction of the complementarity tolerance.
 constexpr double kPenaltyBoundFraction = 0.9;

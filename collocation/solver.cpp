@@ -118,7 +118,7 @@ namespace {
 
 StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
                      const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
-                     SolveReport& report, const char* name = nullptr) {
+                     SolveReport& report) {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
@@ -140,7 +140,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   // from 9 to 16 successes of 40 on the built-in problems (bench/sweeps/perturbed_seeds.yaml).
   app->Options()->SetNumericValue("bound_push", 1e-6);
   app->Options()->SetNumericValue("bound_frac", 1e-6);
-  if (stage == Stage::Task || options.warm_seed) app->Options()->SetNumericValue("mu_init", 1e-4);  // near a solution
+  if (stage != Stage::Feasibility || options.warm_seed) app->Options()->SetNumericValue("mu_init", 1e-4);  // near a solution
   // From a seed near a solution the adaptive strategy's first barrier parameter (its oracle,
   // which ignores mu_init) was 50 on the drop and walked a saved solution away from itself;
   // the monotone strategy keeps mu_init (measured with `saltus sweep`, README).
@@ -164,11 +164,11 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
   nlp->setInterruption(options.interrupted);
   const double tolerance = t.problem().complementarity_tolerance;
-  if (stage == Stage::Task) nlp->keepBestFeasible(tolerance, options.violation_tolerance);
+  if (stage != Stage::Feasibility) nlp->keepBestFeasible(tolerance, options.violation_tolerance);
   const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
-  r.name = name ? name : stage == Stage::Feasibility ? "feasibility" : "task";
+  r.name = toString(stage);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   r.status_code = status;
   r.status = ipoptStatusName(status);
@@ -222,53 +222,56 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
   report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
-  const StageReport first = report.stages.back();  // a copy: the task stage's push_back reallocates
-  const bool first_feasible = feasibleEnd(first);
-  std::size_t kept = 0;  // the stage whose end point is the result
+  const StageReport first = report.stages.back();  // a copy: later push_backs reallocate
+  bool feasible = feasibleEnd(first);  // the point x
+  std::size_t kept = 0;  // the stage whose point is the result
+  if (!report.interrupted && first.succeeded && !feasible && first.largest_product <= options.tighten_within * tolerance) {
+    // A local minimum of the penalty with products above the tolerance (often just above: on a
+    // resting mass, a staircase of small impulses at later boundaries). The bounded products of
+    // the tightening stage, from this point, pull them under it or fail; a failure keeps this point.
+    const Eigen::VectorXd x1 = x;
+    report.stages.push_back(runStage(t, Stage::Tighten, x1, {}, options, x, multipliers, report));
+    const StageReport& tight = report.stages.back();
+    if (feasibleEnd(tight)) {
+      kept = report.stages.size() - 1;
+      feasible = true;
+      if (tight.kept_iteration >= 0) {
+        multipliers = {};
+        report.note = "the tightening stage ended " + tight.status + "; kept the best feasible point it evaluated (a trial of iteration " +
+                      std::to_string(tight.kept_iteration) + ")";
+      }
+    } else if (!report.interrupted) {
+      x = x1;
+      report.note = "the tightening stage ended " + tight.status + "; kept the feasibility stage's point";
+    }
+  }
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task = (has_task || !t.problem().hints.empty()) && !report.interrupted;
-  if (task && (first.succeeded || first_feasible)) {
+  if (task && (first.succeeded || feasible)) {
     // x_m is not in the feasibility stage's cost, and the barriers of q ≤ x_m push it up (to 1e5 m
     // on the drop): the task stage starts from the largest coordinate instead.
     t.tightenMaxVariable(x);
     const Eigen::VectorXd x1 = x;
-    // The multipliers help only near a solution: the feasibility stage's are those of a point
-    // of the real problem when its products are within the tolerance.
-    const Multipliers start = options.warm_start_multipliers && first_feasible ? multipliers : Multipliers{};
+    // The multipliers help only near a solution: the earlier stage's are those of a point of the
+    // real problem when its products are within the tolerance.
+    const Multipliers start = options.warm_start_multipliers && feasible ? multipliers : Multipliers{};
     report.stages.push_back(runStage(t, Stage::Task, x1, start, options, x, multipliers, report));
     const StageReport& second = report.stages.back();
-    if (feasibleEnd(second) || !first_feasible || report.interrupted) {
-      kept = 1;
+    if (feasibleEnd(second) || !feasible || report.interrupted) {
+      kept = report.stages.size() - 1;
       if (second.kept_iteration >= 0) {
         t.tightenMaxVariable(x);
         report.note = "the task stage ended " + second.status + "; kept the best feasible point it evaluated (a trial of iteration " +
                       std::to_string(second.kept_iteration) + ")";
       }
     } else {
-      // The feasibility stage's point satisfies every constraint of the problem (hints only add
+      // The earlier stage's point satisfies every constraint of the problem (hints only add
       // bounds): a valid trajectory, whose task cost the failed stage did not minimise.
       x = x1;
-      report.note = "the task stage ended " + second.status + " at an infeasible point; kept the feasibility stage's solution";
-    }
-  }
-  if (!task && !report.interrupted && first.succeeded && !first_feasible &&
-      first.largest_product <= options.tighten_within * tolerance) {
-    // A local minimum of the penalty with products above the tolerance (often just above: on a
-    // resting mass, a staircase of small impulses at later boundaries). The bounded products of
-    // the task stage, from this point, pull them under it or fail; a failure keeps this point.
-    const Eigen::VectorXd x1 = x;
-    report.stages.push_back(runStage(t, Stage::Task, x1, {}, options, x, multipliers, report, "tighten"));
-    const StageReport& second = report.stages.back();
-    if (feasibleEnd(second)) {
-      kept = 1;
-      if (second.kept_iteration >= 0)
-        report.note = "the tightening stage ended " + second.status + "; kept the best feasible point it evaluated (a trial of iteration " +
-                      std::to_string(second.kept_iteration) + ")";
-    } else {
-      x = x1;
-      report.note = "the tightening stage ended " + second.status + "; kept the feasibility stage's point";
+      report.note = "the task stage ended " + second.status + " at an infeasible point; kept the " +
+                    report.stages[kept].name + " stage's solution";
     }
   }
   report.x = x;
@@ -278,7 +281,8 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.objective = end.objective;
   // A kept feasibility-stage point of a task problem: its task-stage objective (the task cost and
   // the weighted penalty), comparable with a task stage's.
-  if ((kept == 0 || end.kept_iteration >= 0) && has_task) report.objective = Nlp(t, Stage::Task, x).cost(x);
+  const bool task_kept = report.stages[kept].name == "task";
+  if ((!task_kept || end.kept_iteration >= 0) && has_task) report.objective = Nlp(t, Stage::Task, x).cost(x);
   for (const StageReport& s : report.stages) {
     report.wall_seconds += s.wall_seconds;
     report.evaluation_seconds += s.evaluation_seconds;
@@ -287,7 +291,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   report.feasible = !report.interrupted && feasibleEnd(end);
   // Converged: Ipopt solved the stage whose point is kept, and that stage minimised the task
   // cost when there is one (a tightening stage only pulls products under the tolerance).
-  report.converged = report.feasible && end.succeeded && end.kept_iteration < 0 && (!has_task || kept == 1);
+  report.converged = report.feasible && end.succeeded && end.kept_iteration < 0 && (!has_task || task_kept);
   report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
 }

@@ -2,7 +2,8 @@
 // complementarity penalty Σ ε from the seed, hints applied), then, when the problem has a task
 // cost or hints, the task stage (minimise the task cost and the weighted penalty with every
 // ε ≤ the complementarity tolerance and without the hints, warm-started from the first stage:
-// its point, and (by default) its multipliers with Ipopt's warm_start_init_point).
+// its point, and (by default) its multipliers with Ipopt's warm_start_init_point). A feasibility
+// stage that ends just short of the tolerance is tightened in between (SolveOptions::tighten_within).
 //
 // A solution is feasible when, at its point, every product A·B is at most the tolerance (1e-4)
 // and every constraint is within SolveOptions::violation_tolerance of its bounds, whatever
@@ -87,12 +88,13 @@ struct SolveOptions {
   // leaves a feasible, not converged, solution.
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
-  // A penalty-only solve whose feasibility stage ends (Ipopt succeeded) with its largest product
-  // above the tolerance, but within this many times it, is tightened: a stage with every ε
-  // bounded by 0.9 × the tolerance (the paper's bounded form of eq. 8), from that point; when it
-  // fails the feasibility stage's point is kept. Default: always; 0: never. On the perturbed
-  // simulation seeds of bench/sweeps/seeds.yaml it turned 58 of 107 failed impulsive solves
-  // into successes, 43 of them with products within 10 times the tolerance (README).
+  // A feasibility stage that ends (Ipopt succeeded) with its largest product above the
+  // tolerance, but within this many times it, is tightened: a stage minimising Σ ε with every ε
+  // bounded by 0.9 × the tolerance (the paper's bounded form of eq. 8), from that point, before
+  // any task stage; when it fails the feasibility stage's point is kept. Default: always; 0:
+  // never. On the perturbed simulation seeds of bench/sweeps/seeds.yaml it turned 58 of 107
+  // failed impulsive solves into successes, 43 of them with products within 10 times the
+  // tolerance (README).
   double tighten_within = std::numeric_limits<double>::infinity();
   // Called at every Ipopt iteration (its intermediate callback); true stops the solve there
   // (Ipopt's User_Requested_Stop) with no further stage or attempt: a user's Ctrl-C.

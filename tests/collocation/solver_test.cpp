@@ -397,6 +397,24 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   s.report = r;
   s.rows = trajectory(t, r.x);
   checkDrop(s, 0.0);
+
+  // With a task cost the tightened point is where the task stage starts; without tightening
+  // it would start off the constraints (its ε bounded below the near miss's products). With the
+  // variable x_m the seed's random draws differ: random seed 1 ends the feasibility stage at the
+  // same near miss (1.5e-4).
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  p.random_seed = 1;
+  const Transcription task(p, Method::Impulsive);
+  const SolveReport c = solve(task, makeSeeding(task).seed, SolveOptions{});
+  ASSERT_EQ(c.stages.size(), 3u);
+  EXPECT_EQ(c.stages[0].name, "feasibility");
+  EXPECT_GT(c.stages[0].largest_product, p.complementarity_tolerance);
+  EXPECT_EQ(c.stages[1].name, "tighten");
+  EXPECT_EQ(c.stages[2].name, "task");
+  EXPECT_LE(c.stages[1].largest_product, p.complementarity_tolerance);
+  EXPECT_TRUE(c.converged) << c.stages[2].status << ": " << c.note;
+  EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
 }
 
 // A task stage stopped by its iteration limit at a feasible point leaves a feasible, not
