@@ -175,8 +175,9 @@ Command addReplayCommand(CLI::App& saltus) {
   app->add_option("--kp", opt->kp, "PD position gain [N/m or N m/rad] (default 100)");
   app->add_option("--kd", opt->kd, "PD velocity gain [N s/m or N m s/rad] (default 20)");
   app->add_option("--restart", opt->restart,
-                  "none (default) or mesh: start again from the optimised state at every mesh point, so each element "
-                  "is checked from its own start (for motions that diverge open loop)");
+                  "none (default), mesh: start again from the optimised state at every mesh point (before its jump), so "
+                  "each element is checked from its own start (for motions that diverge open loop), or mesh-after-jumps: "
+                  "the same from the state after the jump (the optimiser's impulse taken as given)");
   app->add_option("--tolerance", opt->tolerance,
                   "largest allowed position deviation over all coordinates [m or rad] (default 10 m/s x dt: 1e-3 at dt 1e-4); exit 1 above it");
   app->add_option("--input-scale", opt->input_scale, "multiply the optimised inputs (a deliberately wrong input; default 1)");

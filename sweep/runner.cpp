@@ -97,7 +97,7 @@ void replayCheck(SweepRecord& r, const std::string& solution_dir, const ReplayCh
     o.engines = {verify::EngineKind::Saltus};
     o.dt = check.dt;
     o.tolerance = check.tolerance;
-    o.restart = check.restart_at_mesh ? verify::Restart::Mesh : verify::Restart::None;
+    o.restart = check.restart;
     o.max_series = 2;  // only the figures are kept
     const verify::ReplayResult result = verify::replay(solution, o);
     const verify::EngineReplay& e = result.engines.at(0);

@@ -118,7 +118,7 @@ void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
   if (n["restart"]) {
     const std::string restart = r.text(n["restart"], "replay.restart");
     try {
-      c.restart_at_mesh = verify::parseRestart(restart) == verify::Restart::Mesh;
+      c.restart = verify::parseRestart(restart);
     } catch (const std::invalid_argument& e) {
       r.fail(n["restart"], "replay.restart", e.what());
     }

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "verify/replay.hpp"
+
 namespace saltus::sweep {
 
 // Options of `saltus optimize` passed to every solve.
@@ -40,9 +42,10 @@ struct ReplayCheck {
   bool enabled = true;
   double dt = 1e-4;
   double tolerance = 0;  // 0: verify::ReplayOptions' default (10 m/s × dt)
-  // restart: mesh: from the optimised state at every mesh point (verify::Restart::Mesh), for
-  // motions that open loop diverge whatever the solution's accuracy (a biped on one foot).
-  bool restart_at_mesh = false;
+  // restart: mesh (or mesh-after-jumps): from the optimised state at every mesh point
+  // (verify::Restart), for motions that open loop diverge whatever the solution's accuracy (a
+  // biped on one foot).
+  verify::Restart restart = verify::Restart::None;
 };
 
 struct ProblemEntry {

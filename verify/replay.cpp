@@ -24,12 +24,19 @@ Feedback parseFeedback(const std::string& name) {
   throw std::invalid_argument("unknown feedback '" + name + "' (expected none or pd)");
 }
 
-const char* restartName(Restart restart) { return restart == Restart::None ? "none" : "mesh"; }
+const char* restartName(Restart restart) {
+  switch (restart) {
+    case Restart::None: return "none";
+    case Restart::Mesh: return "mesh";
+    case Restart::MeshAfterJumps: return "mesh-after-jumps";
+  }
+  return "?";
+}
 
 Restart parseRestart(const std::string& name) {
-  if (name == "none") return Restart::None;
-  if (name == "mesh") return Restart::Mesh;
-  throw std::invalid_argument("expected none or mesh, got '" + name + "'");
+  for (Restart r : {Restart::None, Restart::Mesh, Restart::MeshAfterJumps})
+    if (name == restartName(r)) return r;
+  throw std::invalid_argument("expected none, mesh or mesh-after-jumps, got '" + name + "'");
 }
 
 const char* eventKindName(ContactEvent::Kind kind) {
@@ -210,13 +217,15 @@ OptimisedGrid optimisedOnGrid(const SavedSolution& solution, const CollocationTr
 }
 
 // The restarts of Restart::Mesh: at each mesh time t_n after the first, the last step k with
-// t_k ≤ t_n, from the optimised state at t_k before a jump.
-void addRestarts(OptimisedGrid& g, const CollocationTrajectory& traj, double dt) {
+// t_k ≤ t_n, from the optimised state at t_k before a jump; with Restart::MeshAfterJumps, with
+// t_n's velocity jump added (the optimiser's impulse, up to one step early).
+void addRestarts(OptimisedGrid& g, const CollocationTrajectory& traj, double dt, Restart restart) {
   const std::vector<double>& mesh = traj.meshTimes();
   for (std::size_t n = 1; n + 1 < mesh.size(); ++n) {
     const long k = static_cast<long>(std::floor(mesh[n] / dt * (1 + 1e-12)));
     if (k <= 0 || k >= g.steps()) continue;
-    const collocation::TrajectoryPoint p = traj.at(g.t[k], Side::Before);
+    collocation::TrajectoryPoint p = traj.at(g.t[k], Side::Before);
+    if (restart == Restart::MeshAfterJumps) p.v += traj.at(mesh[n], Side::After).v - traj.at(mesh[n], Side::Before).v;
     g.restarts[k] = {p.q, p.v};
   }
 }
@@ -443,7 +452,7 @@ ReplayResult replay(const SavedSolution& solution, const ReplayOptions& options)
   R.stride = static_cast<int>((n_steps + options.max_series - 1) / options.max_series);
   ContactKinematics kin(tr);
   OptimisedGrid grid = optimisedOnGrid(solution, traj, options.dt, n_steps, kin);
-  if (options.restart == Restart::Mesh) addRestarts(grid, traj, options.dt);
+  if (options.restart != Restart::None) addRestarts(grid, traj, options.dt, options.restart);
   for (long k = 0; k <= n_steps; ++k) {
     if (k % R.stride != 0 && k != n_steps) continue;
     R.t.push_back(grid.t[k]);

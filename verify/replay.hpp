@@ -35,7 +35,9 @@
 // shooting). At mesh time t_n the engine is reset, at the start of the last step k with
 // t_k ≤ t_n, to the optimised state at t_k before any jump (Side::Before), so the engine itself
 // must produce the impulse at t_n: an impulse in mid-air still shows. The deviation then measures
-// one element's worth of error; events are recorded as without restarts.
+// one element's worth of error; events are recorded as without restarts. Restart::MeshAfterJumps
+// resets to the state after t_n's jump instead (the optimiser's impulse taken as given): the two
+// side by side tell an impact the engine resolves differently from an element's smooth motion.
 //
 // Deviation, after every step at t_k: q − q*(t_k) and v − v*(t_k) per coordinate, with the
 // optimised state the collocation polynomials' (CollocationTrajectory::at, Side::After: at a
@@ -81,8 +83,8 @@ enum class Feedback { None, Pd };
 const char* feedbackName(Feedback feedback);  // "none", "pd"
 Feedback parseFeedback(const std::string& name);  // throws std::invalid_argument
 
-enum class Restart { None, Mesh };
-const char* restartName(Restart restart);  // "none", "mesh"
+enum class Restart { None, Mesh, MeshAfterJumps };
+const char* restartName(Restart restart);  // "none", "mesh", "mesh-after-jumps"
 Restart parseRestart(const std::string& name);  // throws std::invalid_argument
 
 struct ReplayOptions {
@@ -93,7 +95,7 @@ struct ReplayOptions {
   double theta = 0.5;
   Feedback feedback = Feedback::None;
   double kp = 100, kd = 20;
-  Restart restart = Restart::None;  // Mesh: from the optimised state at every mesh point (above)
+  Restart restart = Restart::None;  // Mesh (MeshAfterJumps): from the optimised state at every mesh point (above)
   // On the maximum position deviation [m or rad]; 0: tolerance_speed × dt (1 mm or 1 mrad at
   // the default dt). A replay differs from a feasible solution at first order in dt: an impact
   // or a belt step is resolved up to one step late, shifting the position by up to |Δv| dt, and

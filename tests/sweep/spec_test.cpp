@@ -113,12 +113,18 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
                 .find("a sweep spec is one YAML document"),
             std::string::npos);
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nreplay: {restart: element}\n")
-                .find("spec.yaml:4:19: replay.restart: expected none or mesh, got 'element'"),
+                .find("spec.yaml:4:19: replay.restart: expected none, mesh or mesh-after-jumps, got 'element'"),
             std::string::npos);
-  EXPECT_TRUE(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nreplay: {restart: mesh}\n",
-                             "spec.yaml")
-                  .replay.restart_at_mesh);
-  EXPECT_FALSE(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n", "spec.yaml").replay.restart_at_mesh);
+  EXPECT_EQ(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nreplay: {restart: mesh}\n",
+                           "spec.yaml")
+                .replay.restart,
+            verify::Restart::Mesh);
+  EXPECT_EQ(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nreplay: {restart: mesh-after-jumps}\n",
+                           "spec.yaml")
+                .replay.restart,
+            verify::Restart::MeshAfterJumps);
+  EXPECT_EQ(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n", "spec.yaml").replay.restart,
+            verify::Restart::None);
   // A parameter the problem does not have: found before any solve, naming the entry.
   const std::string unknown = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nset: {mass: [1]}\nseeds: [1]\n");
   EXPECT_NE(unknown.find("spec.yaml: problems[0] (point_mass_drop) with mass=1: "), std::string::npos) << unknown;

@@ -254,6 +254,41 @@ TEST(Replay, MeshRestartsBoundTheDeviationByOneElement) {
   EXPECT_THROW(parseRestart("element"), std::invalid_argument);
 }
 
+// From the state after each mesh point's jump: where there is no jump (the push) the same
+// restarts as Restart::Mesh; at the drop's bounce the engine starts with the optimiser's
+// rebound, so it records no impact of its own there, and the motion after it is still matched.
+TEST(Replay, RestartsAfterJumpsTakeTheOptimisersImpulse) {
+  ReplayOptions o = replayOptions({EngineKind::Saltus});
+  o.input_offset = Eigen::VectorXd::Constant(1, 0.05);
+  o.restart = Restart::Mesh;
+  const ReplayResult before = replay(pushSolution(), o);
+  o.restart = Restart::MeshAfterJumps;
+  const ReplayResult after = replay(pushSolution(), o);
+  ASSERT_TRUE(after.engines[0].completed) << after.engines[0].message;
+  // (the jump between the two sides of a mesh point without an impulse is round-off)
+  EXPECT_NEAR(after.engines[0].max_position_deviation, before.engines[0].max_position_deviation, 1e-12);
+  EXPECT_NEAR(after.engines[0].max_velocity_deviation, before.engines[0].max_velocity_deviation, 1e-12);
+
+  ReplayOptions d = replayOptions({EngineKind::Saltus});
+  const auto impacts = [](const EngineReplay& E) {
+    int n = 0;
+    for (const ContactEvent& e : E.events) n += e.kind == ContactEvent::Impact;
+    return n;
+  };
+  d.restart = Restart::Mesh;
+  const ReplayResult engine = replay(dropSolution(), d);
+  d.restart = Restart::MeshAfterJumps;
+  const ReplayResult given = replay(dropSolution(), d);
+  const EngineReplay& B = engine.engines[0];
+  const EngineReplay& A = given.engines[0];
+  ASSERT_TRUE(A.completed) << A.message;
+  EXPECT_TRUE(A.within_tolerance) << A.max_position_deviation;
+  EXPECT_GE(impacts(B), 1);
+  EXPECT_EQ(impacts(A), impacts(B) - 1);  // the bounce's impulse was the optimiser's
+  EXPECT_NEAR(A.energy_end, 0.5 * 0.5 * 9.81 * 0.1, 2e-3);
+  EXPECT_EQ(parseRestart("mesh-after-jumps"), Restart::MeshAfterJumps);
+}
+
 TEST(Replay, RefusesBadOptions) {
   const SavedSolution& s = pushSolution();
   ReplayOptions o = replayOptions({EngineKind::Saltus});
