@@ -348,7 +348,10 @@ LcpResult LcpSolver::solveLemke(const ConstMatrixRef& M_original, const ConstVec
   if (acceptance == Acceptance::NonFinite) return nonFinite(z, w, pivots);
   if (acceptance == Acceptance::Accepted) status = LcpStatus::Solved;
   else if (status == LcpStatus::Solved) status = LcpStatus::NotConverged;
-  return {status, pivots, complementarityResidual(z, w)};
+  LcpResult result{status, pivots, complementarityResidual(z, w)};
+  if (acceptance == Acceptance::Rejected)
+    result.rejected_row = rejected_row_, result.rejected_w = rejected_w_, result.rejected_allowance = rejected_allowance_;
+  return result;
 }
 
 // w = M z + q from the original data, and whether z, w pass the check (lcp.hpp, solveLemke).
@@ -385,10 +388,19 @@ LcpSolver::Acceptance LcpSolver::accept(const ConstMatrixRef& M_original, const 
   for (int i = 0; i < n; ++i) largest_magnitude = std::max(largest_magnitude, row_scaling[i] * w_magnitude[i]);
   const double noise_floor = kLemkeFloor * largest_magnitude;
   bool accepted = true;
+  double worst = 1;  // excess over the allowance of the row furthest outside
+  rejected_row_ = -1;
   for (int i = 0; i < n; ++i) {
     const double w_hat = row_scaling[i] * w[i];
     const double tolerance = kLemkeAcceptance * row_scaling[i] * w_magnitude[i] + noise_floor;
-    if (w_hat < -tolerance || (z[i] > 0 && w_hat > tolerance)) accepted = false;
+    const double outside = z[i] > 0 ? std::abs(w_hat) : -w_hat;  // w_i < 0, or w_i ≠ 0 where z_i > 0
+    if (outside > tolerance) {
+      accepted = false;
+      if (outside > worst * tolerance) {
+        worst = outside / tolerance;
+        rejected_row_ = i, rejected_w_ = w[i], rejected_allowance_ = tolerance / row_scaling[i];
+      }
+    }
   }
   return accepted ? Acceptance::Accepted : Acceptance::Rejected;
 }

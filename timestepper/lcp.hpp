@@ -38,6 +38,10 @@ struct LcpResult {
   LcpStatus status;
   int iterations;   // Lemke: pivots, the one that brings z0 in included; PGS: sweeps
   double residual;  // lcp residual of the returned z, w (see lcpResidual); +inf on NonFinite
+  // A Lemke solution its acceptance check refused: the row furthest outside the check (relative
+  // to what it allows there), its w_i, and the allowance, in q's units (−1: no row refused).
+  int rejected_row = -1;
+  double rejected_w = 0, rejected_allowance = 0;
 };
 
 // max_i |min(z_i, w_i)| + max(0, max_i −z_i, max_i −w_i) with w = M z + q. Zero exactly at a
@@ -115,6 +119,9 @@ class LcpSolver {
   void equilibrate(const Eigen::Ref<const Eigen::MatrixXd>& M, int n);
 
   int capacity_;
+  // accept()'s row furthest outside the check (−1: none), its w_i and allowance (LcpResult).
+  int rejected_row_ = -1;
+  double rejected_w_ = 0, rejected_allowance_ = 0;
   // Lemke: the equilibrated M̂ and q̂, the diagonals of D_r and D_c and one sweep's factors;
   // basis inverse B⁻¹ of the system I ŵ − M̂ ẑ − d z0 = q̂, values of the basic variables
   // x_B = B⁻¹ q̂ and the entering column B⁻¹ â_s with their round-off scales, the row norms

@@ -265,10 +265,31 @@ void TimeStepper::solveLcp(int nz, double h) {
     std::ostringstream msg;
     msg << "LCP solver (" << (options_.solver == LcpMethod::Lemke ? "lemke" : "pgs") << ") failed at t = " << t_
         << " s: " << toString(result.status) << " after " << result.iterations << " iterations, residual "
-        << result.residual << ", LCP size " << nz << ", active contacts:";
+        << result.residual << ", LCP size " << nz;
+    if (result.rejected_row >= 0)
+      msg << ", the acceptance check refused row " << result.rejected_row << " (" << lcpRowName(result.rejected_row)
+          << "): w = " << result.rejected_w << " where " << (z[result.rejected_row] > 0 ? "0" : "w >= 0")
+          << " was required to within " << result.rejected_allowance;
+    msg << ", active contacts:";
     for (const std::string& name : activeNames()) msg << " " << name;
     throw SimulationError(msg.str(), t_, activeNames(), result.residual);
   }
+}
+
+// solveLcp's layout: the m normal rows of the active pairs, their friction directions (f rows),
+// then one cone row per frictional pair.
+std::string TimeStepper::lcpRowName(int row) const {
+  if (row < m_) return pairs_[active_[row]].name + " normal";
+  int friction = m_, cone = m_ + f_;
+  for (int r = 0; r < m_; ++r) {
+    const contact::ContactPair& pair = pairs_[active_[r]];
+    if (pair.k() == 0) continue;
+    if (row >= friction && row < friction + pair.k()) return pair.name + " friction " + std::to_string(row - friction);
+    if (row == cone) return pair.name + " cone";
+    friction += pair.k();
+    ++cone;
+  }
+  return "row " + std::to_string(row);
 }
 
 std::vector<std::string> TimeStepper::activeNames() const {

@@ -163,6 +163,7 @@ class TimeStepper {
   void project();
   bool measureContacts();
   std::vector<std::string> activeNames() const;
+  std::string lcpRowName(int row) const;  // solveLcp's row: "foot normal", "foot friction 1", "foot cone"
 
   Eigen::Vector3d surfaceVelocity(const contact::ContactPair& pair, double t) const;
 

@@ -443,6 +443,16 @@ TEST(Lemke, StopsAtThePivotLimit) {
   EXPECT_EQ(capped.result.status, LcpStatus::IterationLimit);
   EXPECT_EQ(capped.result.iterations, 5);
   EXPECT_GT(capped.result.residual, 1e-3);
+  // The acceptance check refuses the partial basis and names the row furthest outside it, with
+  // its w_i = (M z + q)_i and the allowance there; a solution names none.
+  EXPECT_EQ(full.result.rejected_row, -1);
+  const int r = capped.result.rejected_row;
+  ASSERT_GE(r, 0);
+  ASSERT_LT(r, 20);
+  const VectorXd w = M * capped.z + q;
+  EXPECT_NEAR(capped.result.rejected_w, w[r], 1e-12 * (1 + std::abs(w[r])));
+  EXPECT_GT(capped.result.rejected_allowance, 0.0);
+  EXPECT_GT(capped.z[r] > 0 ? std::abs(w[r]) : -w[r], capped.result.rejected_allowance);
 }
 
 TEST(Lcp, SolvesAllocateNothing) {
