@@ -219,6 +219,10 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   const auto feasibleEnd = [&](const StageReport& s) {
     return s.largest_product <= tolerance && s.largest_violation <= options.violation_tolerance;
   };
+  const auto keptNote = [](const StageReport& s) {
+    return "the " + s.name + " stage ended " + s.status + "; kept the best feasible point it evaluated (a trial of iteration " +
+           std::to_string(s.kept_iteration) + ")";
+  };
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
   report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
@@ -235,12 +239,8 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     if (feasibleEnd(tight)) {
       kept = report.stages.size() - 1;
       feasible = true;
-      if (tight.kept_iteration >= 0) {
-        multipliers = {};
-        report.note = "the tightening stage ended " + tight.status + "; kept the best feasible point it evaluated (a trial of iteration " +
-                      std::to_string(tight.kept_iteration) + ")";
-      }
-    } else if (!report.interrupted) {
+      if (tight.kept_iteration >= 0) report.note = keptNote(tight);
+    } else {
       x = x1;
       report.note = "the tightening stage ended " + tight.status + "; kept the feasibility stage's point";
     }
@@ -263,8 +263,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
       kept = report.stages.size() - 1;
       if (second.kept_iteration >= 0) {
         t.tightenMaxVariable(x);
-        report.note = "the task stage ended " + second.status + "; kept the best feasible point it evaluated (a trial of iteration " +
-                      std::to_string(second.kept_iteration) + ")";
+        report.note = keptNote(second);
       }
     } else {
       // The earlier stage's point satisfies every constraint of the problem (hints only add
