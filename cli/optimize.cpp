@@ -66,11 +66,14 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   options.seed_from = opt.seed_from;
   options.seed_scale = opt.seed_scale;
   options.restarts = opt.restarts;
-  if (!opt.hessian.empty()) {
-    if (opt.hessian != "exact" && opt.hessian != "limited-memory")
-      throw UsageError("--hessian: expected exact or limited-memory, got '" + opt.hessian + "'");
-    options.exact_hessian = opt.hessian == "exact";
-  }
+  const auto hessian = [](const std::string& flag, const std::string& kind, std::optional<bool>& exact) {
+    if (kind.empty()) return;
+    if (kind != "exact" && kind != "limited-memory")
+      throw UsageError(flag + ": expected exact or limited-memory, got '" + kind + "'");
+    exact = kind == "exact";
+  };
+  hessian("--hessian", opt.hessian, options.exact_hessian);
+  hessian("--feasibility-hessian", opt.feasibility_hessian, options.feasibility_exact_hessian);
   options.derivative_check = opt.derivative_check;
   options.solve.print_level = opt.print_level;
   options.solve.ipopt = ipopt;
@@ -177,7 +180,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "feasible point gives a feasible, not converged, solution");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
-  app->add_option("--hessian", opt->hessian, "exact (default) or limited-memory");
+  app->add_option("--hessian", opt->hessian, "every stage's Hessian: exact or limited-memory (quasi-Newton)");
+  app->add_option("--feasibility-hessian", opt->feasibility_hessian,
+                  "the feasibility and tightening stages' Hessian (after --hessian): exact or limited-memory");
   app->add_flag("--derivative-check", opt->derivative_check, "run Ipopt's second-order derivative checker");
   app->add_option("--print-level", opt->print_level, "Ipopt's print_level (0 = quiet)");
   app->add_option("--out", opt->out, "output directory (trajectory.csv, variables.csv, summary.json)")->required();

@@ -22,7 +22,8 @@ struct OptimizeCliOptions {
   std::optional<double> tighten_within;
   std::optional<int> task_max_iter;
   std::vector<std::string> set, ipopt;
-  std::string hessian;
+  std::string hessian;              // every stage's: exact or limited-memory
+  std::string feasibility_hessian;  // the feasibility and tightening stages'
   int print_level = 0;
   bool derivative_check = false;
   std::string out;

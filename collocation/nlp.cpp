@@ -202,6 +202,7 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     for (int k = 0; k < nele_hess; ++k) iRow[k] = hess_row_[k], jCol[k] = hess_col_[k];
     return true;
   }
+  ++hessian_evaluations_;
   for (int k = 0; k < nele_hess; ++k) values[k] = 0;
   const auto& blocks = t_.blocks();
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {

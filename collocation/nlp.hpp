@@ -43,6 +43,7 @@ class Nlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status() const { return status_; }
   double objective() const { return objective_; }
   double evaluationSeconds() const { return eval_seconds_; }
+  int hessianEvaluations() const { return hessian_evaluations_; }  // values, not the structure
   int jacobianNonzeros() const { return static_cast<int>(jac_row_.size()); }
   int hessianNonzeros() const { return static_cast<int>(hess_row_.size()); }
 
@@ -115,6 +116,7 @@ class Nlp : public Ipopt::TNLP {
   Ipopt::SolverReturn status_ = Ipopt::INTERNAL_ERROR;
   double objective_ = 0;
   double eval_seconds_ = 0;
+  int hessian_evaluations_ = 0;
   int iteration_ = -1;  // of the last intermediate callback
   double best_product_tolerance_ = -1, best_violation_tolerance_ = -1;  // < 0: not kept
   Eigen::VectorXd best_x_;

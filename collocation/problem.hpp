@@ -125,7 +125,12 @@ struct Problem {
   int restarts = 2;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
   std::string seed_solution_origin;  // where it was given (file:line: solve.seed_solution, or --seed-from)
-  bool exact_hessian = true;  // false: Ipopt's limited-memory quasi-Newton
+  // Ipopt's Hessian of the Lagrangian: exact (second derivatives by AD) or false: its
+  // limited-memory quasi-Newton approximation (no second derivatives, a positive definite
+  // matrix: no inertia correction). exact_hessian is the task stage's,
+  // feasibility_exact_hessian the feasibility and tightening stages'.
+  bool exact_hessian = true;
+  bool feasibility_exact_hessian = true;
   bool derivative_check = false;  // Ipopt's derivative checker (second order) before solving
   // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted
   // to the option's registered type.

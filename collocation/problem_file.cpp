@@ -442,7 +442,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "restarts", "hessian", "derivative_check"},
+               "restarts", "hessian", "feasibility_hessian", "derivative_check"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -479,12 +479,17 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     r_.fail(node, "solve.seed_solution",
             "seed: solution needs seed_solution: the directory (or trajectory.csv) of an earlier solution, relative "
             "to the problem file");
-  if (const YAML::Node h = node["hessian"]; h.IsDefined()) {
-    const std::string kind = r_.text(h, "solve.hessian");
+  // hessian: every stage's; feasibility_hessian: the feasibility and tightening stages'.
+  for (const char* key : {"hessian", "feasibility_hessian"}) {
+    const YAML::Node h = node[key];
+    if (!h.IsDefined()) continue;
+    const std::string where = std::string("solve.") + key;
+    const std::string kind = r_.text(h, where);
     if (kind != "exact" && kind != "limited-memory")
-      r_.fail(h, "solve.hessian", "unknown hessian '" + kind + "'" + suggestion(kind, {"exact", "limited-memory"}) +
-                                      "; expected one of: exact, limited-memory");
-    p_.exact_hessian = kind == "exact";
+      r_.fail(h, where, "unknown hessian '" + kind + "'" + suggestion(kind, {"exact", "limited-memory"}) +
+                            "; expected one of: exact, limited-memory");
+    if (std::string(key) == "hessian") p_.exact_hessian = kind == "exact";
+    p_.feasibility_exact_hessian = kind == "exact";
   }
   if (node["derivative_check"].IsDefined())
     p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");

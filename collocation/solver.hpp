@@ -38,6 +38,8 @@ struct StageReport {
   double largest_violation = 0;   // of a constraint's bounds (before the products' ε), at its end
   double wall_seconds = 0;
   double evaluation_seconds = 0;  // in our function and derivative callbacks
+  bool exact_hessian = true;      // false: Ipopt's limited-memory quasi-Newton (Problem)
+  int hessian_evaluations = 0;    // of the Lagrangian's exact Hessian (none with quasi-Newton)
   // ≥ 0: the stage's result is not its end point but the best feasible point it evaluated, a
   // trial of this iteration (0: its starting point); the task and tightening stages only.
   int kept_iteration = -1;

@@ -154,7 +154,7 @@ void bindOptimize(py::module_& m) {
       [](const py::object& problem, const std::string& method, std::optional<int> N, std::optional<int> P,
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
-         const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
+         std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
          std::optional<int> task_max_iter, bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
         OptimizeOptions o;
@@ -166,11 +166,15 @@ void bindOptimize(py::module_& m) {
         o.seed_from = seed_from;
         o.seed_scale = seed_scale;
         o.restarts = restarts;
-        if (hessian) {
-          if (*hessian != "exact" && *hessian != "limited-memory")
-            throw std::invalid_argument("hessian: expected 'exact' or 'limited-memory', got '" + *hessian + "'");
-          o.exact_hessian = *hessian == "exact";
-        }
+        const auto exact = [](const char* name, const std::optional<std::string>& kind, std::optional<bool>& out) {
+          if (!kind) return;
+          if (*kind != "exact" && *kind != "limited-memory")
+            throw std::invalid_argument(std::string(name) + ": expected 'exact' or 'limited-memory', got '" + *kind +
+                                        "'");
+          out = *kind == "exact";
+        };
+        exact("hessian", hessian, o.exact_hessian);
+        exact("feasibility_hessian", feasibility_hessian, o.feasibility_exact_hessian);
         o.solve.ipopt = ipopt;
         o.solve.print_level = print_level;
         if (tighten_within) o.solve.tighten_within = *tighten_within;
@@ -213,7 +217,7 @@ void bindOptimize(py::module_& m) {
       py::arg("problem"), py::kw_only(), py::arg("method") = "impulsive", py::arg("N") = py::none(),
       py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
       py::arg("seed_from") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
-      py::arg("hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
+      py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
       py::arg("task_max_iter") = py::none(), py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},

@@ -48,7 +48,8 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
     if (*options.restarts < 0) throw std::invalid_argument("restarts: expected a non-negative integer");
     problem.restarts = *options.restarts;
   }
-  if (options.exact_hessian) problem.exact_hessian = *options.exact_hessian;
+  if (options.exact_hessian) problem.exact_hessian = problem.feasibility_exact_hessian = *options.exact_hessian;
+  if (options.feasibility_exact_hessian) problem.feasibility_exact_hessian = *options.feasibility_exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
   if (options.solve.print_level < 0 || options.solve.print_level > 12)
     throw std::invalid_argument("print_level: expected Ipopt's print level, 0 … 12, got " +
@@ -138,6 +139,8 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"largest_violation", s.largest_violation},
                            {"wall_seconds", s.wall_seconds},
                            {"evaluation_seconds", s.evaluation_seconds},
+                           {"hessian", s.exact_hessian ? "exact" : "limited-memory"},
+                           {"hessian_evaluations", s.hessian_evaluations},
                            {"kept_iteration", s.kept_iteration}});
   for (const AttemptReport& a : r.attempts)
     j["attempts"].push_back({{"attempt", a.attempt},

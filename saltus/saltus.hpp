@@ -144,7 +144,8 @@ struct OptimizeOptions {
   std::string seed_from;                        // start from an earlier solution (its folder)
   std::optional<double> seed_scale;             // size of the random perturbation (≥ 0)
   std::optional<int> restarts;                  // further attempts after an infeasible end (≥ 0)
-  std::optional<bool> exact_hessian;            // false: limited-memory
+  std::optional<bool> exact_hessian;            // every stage's; false: limited-memory
+  std::optional<bool> feasibility_exact_hessian;  // the feasibility and tightening stages' (after exact_hessian)
   bool derivative_check = false;                // Ipopt's second-order derivative checker
   // Ipopt's print level and options, tightening, and an interruption check (restarts: above).
   collocation::SolveOptions solve;

@@ -58,7 +58,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "task_max_iter", "hessian", "ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -86,10 +86,12 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
       r.fail(n["seed"], "options.seed", e.what());
     }
   }
-  if (n["hessian"]) {
-    o.hessian = r.text(n["hessian"], "options.hessian");
-    if (o.hessian != "exact" && o.hessian != "limited-memory")
-      r.fail(n["hessian"], "options.hessian", "expected exact or limited-memory, got '" + o.hessian + "'");
+  for (const auto& [key, value] : {std::pair{"hessian", &o.hessian}, {"feasibility_hessian", &o.feasibility_hessian}}) {
+    if (!n[key]) continue;
+    const std::string where = std::string("options.") + key;
+    *value = r.text(n[key], where);
+    if (*value != "exact" && *value != "limited-memory")
+      r.fail(n[key], where, "expected exact or limited-memory, got '" + *value + "'");
   }
   if (n["ipopt"]) {
     r.checkNameMap(n["ipopt"], "options.ipopt");
@@ -241,6 +243,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
+  if (!o.feasibility_hessian.empty()) a.insert(a.end(), {"--feasibility-hessian", o.feasibility_hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});
   a.insert(a.end(), {"--out", out});
   return a;

@@ -31,7 +31,8 @@ struct SolveSettings {
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<int> task_max_iter;      // --task-max-iter
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
-  std::string hessian;  // "", "exact" or "limited-memory"
+  std::string hessian;              // --hessian: "", "exact" or "limited-memory"
+  std::string feasibility_hessian;  // --feasibility-hessian: the same
   std::map<std::string, std::string> ipopt;  // --ipopt name=value
 };
 

@@ -254,6 +254,7 @@ TEST(ProblemFile, DefaultsAndTheNullSeed) {
   EXPECT_EQ(p.total_time_kind, TotalTime::Free);
   EXPECT_TRUE(p.task_stage);
   EXPECT_TRUE(p.exact_hessian);
+  EXPECT_TRUE(p.feasibility_exact_hessian);
   EXPECT_TRUE(p.ipopt_options.empty());
   EXPECT_TRUE(p.scene.contacts.empty());
 }
@@ -408,7 +409,8 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   EXPECT_EQ(p_.seed_scale, 0.2);
   EXPECT_EQ(p_.random_seed, 7u);
   EXPECT_EQ(p_.seed_solution, kDataDir + "earlier/run");  // relative to the problem file
-  EXPECT_FALSE(p_.exact_hessian);
+  EXPECT_FALSE(p_.exact_hessian);           // hessian: every stage's,
+  EXPECT_TRUE(p_.feasibility_exact_hessian);  // then feasibility_hessian for the feasibility stage
   EXPECT_TRUE(p_.derivative_check);
   EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
                                   {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
@@ -437,6 +439,10 @@ std::string expectError(const std::string& fixture, const std::string& key_path,
   return what;
 }
 
+TEST(ProblemFileErrors, UnknownHessian) {
+  expectError("bad_hessian.yaml", "solve.feasibility_hessian",
+              {"unknown hessian 'limited_memory'", "did you mean 'limited-memory'", "expected one of: exact, limited-memory"});
+}
 TEST(ProblemFileErrors, UnknownKey) {
   expectError("unknown_key.yaml", "mesh.h_mx", {"unknown key 'h_mx'", "did you mean 'h_max'", "expected one of: N, P"});
 }

@@ -516,6 +516,34 @@ TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   EXPECT_NEAR(Nlp(t, Stage::Task, x).cost(x), 0.1, 1e-3);
 }
 
+// The feasibility stage with Ipopt's quasi-Newton Hessian (no second derivatives evaluated) and
+// the task stage with the exact one: the same physics as with the exact Hessian throughout.
+TEST(Solver, AQuasiNewtonFeasibilityStageAndAnExactTaskStage) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;  // a task stage: minimise the largest height
+  p.cost.max_weight = 1.0;
+  for (const bool exact_feasibility : {false, true}) {
+    SCOPED_TRACE(exact_feasibility ? "exact" : "limited-memory");
+    p.feasibility_exact_hessian = exact_feasibility;
+    const Transcription t(p, Method::Impulsive);
+    SolveOptions o;
+    o.warm_seed = true;
+    const SolveReport r = solve(t, seedFromSimulation(t), o);
+    ASSERT_GE(r.stages.size(), 2u);
+    const StageReport &feasibility = r.stages.front(), &task = r.stages.back();
+    EXPECT_EQ(feasibility.exact_hessian, exact_feasibility);
+    EXPECT_EQ(feasibility.hessian_evaluations > 0, exact_feasibility) << feasibility.hessian_evaluations;
+    EXPECT_TRUE(task.exact_hessian);
+    EXPECT_GT(task.hessian_evaluations, 0);
+    EXPECT_TRUE(r.converged) << task.status << ", largest product " << r.largest_product;
+    EXPECT_NEAR(r.objective, 0.1, 1e-3);  // x_m: the drop's start
+    Solved s;
+    s.report = r;
+    s.rows = trajectory(t, r.x);
+    checkDrop(s, 0.0);
+  }
+}
+
 // Without a task cost a solve that Ipopt solved is converged; a feasibility stage stopped by its
 // iteration limit before the products are small is neither feasible nor converged.
 TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {

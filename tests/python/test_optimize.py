@@ -95,6 +95,8 @@ def test_bad_input_is_a_value_error_and_an_infeasible_solve_can_be_an_error():
         saltus.optimize("point_mass_drop", P=12)
     with pytest.raises(ValueError, match="method"):
         saltus.optimize("point_mass_drop", method="magic")
+    with pytest.raises(ValueError, match="feasibility_hessian: expected 'exact' or 'limited-memory', got 'bfgs'"):
+        saltus.optimize("point_mass_drop", feasibility_hessian="bfgs")
     with pytest.raises(ValueError, match="restitution"):
         saltus.optimize("point_mass_drop", method="continuous", set={"restitution": 0.5})
     with pytest.raises(ValueError, match="no_such_problem"):
@@ -104,3 +106,17 @@ def test_bad_input_is_a_value_error_and_an_infeasible_solve_can_be_an_error():
     assert error.value.args[1] == "Maximum_Iterations_Exceeded"
     problem = saltus.load_problem("point_mass_drop", {"height": 0.2})
     assert problem.parameters["height"] == 0.2 and problem.N == 20
+
+
+def test_the_feasibility_stage_can_go_without_second_derivatives():
+    """feasibility_hessian="limited-memory": Ipopt's quasi-Newton, no Hessian evaluated in that stage."""
+    quasi = saltus.optimize("point_mass_drop", feasibility_hessian="limited-memory", restarts=0)
+    exact = saltus.optimize("point_mass_drop", restarts=0)
+    assert quasi.feasible and exact.feasible
+    q_stage, e_stage = quasi.summary["stages"][0], exact.summary["stages"][0]
+    assert (q_stage["hessian"], q_stage["hessian_evaluations"]) == ("limited-memory", 0)
+    assert e_stage["hessian"] == "exact" and e_stage["hessian_evaluations"] > 0
+    # the same drop: the impact at sqrt(2 h / g)
+    for s in (quasi, exact):
+        jump = np.argmax(np.diff(s.v[:, 0]))
+        assert abs(s.t[jump + 1] - np.sqrt(2 * H / G)) < 1e-3

@@ -100,7 +100,12 @@ TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
   EXPECT_EQ(adjusted.random_seed, 7u);
   EXPECT_EQ(adjusted.seed_scale, 0.25);
   EXPECT_EQ(adjusted.restarts, 2);
-  EXPECT_FALSE(adjusted.exact_hessian);
+  EXPECT_FALSE(adjusted.exact_hessian);  // every stage's
+  EXPECT_FALSE(adjusted.feasibility_exact_hessian);
+  options.feasibility_exact_hessian = true;  // then the feasibility stage's
+  const saltus::collocation::Problem mixed = saltus::adjustedProblem(problem, options);
+  EXPECT_FALSE(mixed.exact_hessian);
+  EXPECT_TRUE(mixed.feasibility_exact_hessian);
   auto message = [&](const saltus::OptimizeOptions& o) {
     try {
       saltus::adjustedProblem(problem, o);

@@ -36,7 +36,8 @@ problems:
 methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
-options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, ipopt: {bound_push: 1e-6}}
+options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, feasibility_hessian: limited-memory,
+          ipopt: {bound_push: 1e-6}}
 )",
                                         "spec.yaml");
   ASSERT_EQ(spec.problems.size(), 2u);
@@ -58,7 +59,9 @@ options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, ipopt: {bou
   const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0",
-                                             "--tighten-within", "0", "--task-max-iter", "500", "--ipopt", "bound_push=1e-6", "--out", "OUT"};
+                                             "--tighten-within", "0", "--task-max-iter", "500",
+                                             "--feasibility-hessian", "limited-memory", "--ipopt", "bound_push=1e-6",
+                                             "--out", "OUT"};
   EXPECT_EQ(args, expected);
 }
 
@@ -107,6 +110,11 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {N: 0}\n")
                 .find("options.N: expected an integer ≥ 1"),
             std::string::npos);
+  const std::string hessian =
+      errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {feasibility_hessian: bfgs}\n");
+  EXPECT_NE(hessian.find("spec.yaml:4:"), std::string::npos) << hessian;
+  EXPECT_NE(hessian.find("options.feasibility_hessian: expected exact or limited-memory, got 'bfgs'"), std::string::npos)
+      << hessian;
   const std::string seed = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {seed: simulatoin}\n");
   EXPECT_NE(seed.find("options.seed: unknown seed 'simulatoin' (did you mean 'simulation'?)"), std::string::npos) << seed;
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n---\nseeds: [2]\n")
