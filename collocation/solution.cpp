@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "collocation/interpolation.hpp"
 #include "dynamics/aba.hpp"
 
 namespace saltus::collocation {
@@ -97,6 +98,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
   const int nv = model.nv(), nu = static_cast<int>(t.problem().inputs.size());
   const int P = static_cast<int>(t.layout()[0].collocation.size());
   const bool first_order = t.method() == Method::FirstOrder;
+  const CollocationTrajectory polynomials(t, x);
   Eigen::VectorXd gx, gw;
   gaussLegendre(P + 1, gx, gw);
   double total = 0;
@@ -109,7 +111,7 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
     for (const auto& pt : L.points)
       for (int i = 0; i < nv; ++i)
         q_max[i] = std::max(q_max[i], std::abs(x[pt.q + i])), v_max[i] = std::max(v_max[i], std::abs(x[pt.v + i]));
-  Eigen::VectorXd q(nv), v(nv), qd(nv), vd(nv), tau(nv);
+  Eigen::VectorXd qd(nv), tau(nv);
   const Eigen::VectorXd tau_0 = t.constantInput().size() == nv ? t.constantInput() : Eigen::VectorXd::Zero(nv);
   for (int n = 0; n < t.elements(); ++n) {
     const ElementLayout& L = t.layout()[n];
@@ -117,32 +119,16 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
     Eigen::VectorXd err_q = Eigen::VectorXd::Zero(nv), err_v = Eigen::VectorXd::Zero(nv);
     for (int m = 0; m < gx.size(); ++m) {
       const double s = (gx[m] + 1) / 2;
-      // State polynomials and their derivatives (eq. 3 with s in place of τ_p; first order: the
-      // backward-Euler step is linear in s with the end point's rates).
-      Eigen::VectorXd Is, ls;
-      if (first_order) {
-        Is = Eigen::VectorXd::Constant(1, s);
-        ls = Eigen::VectorXd::Ones(1);
-      } else {
-        Is = t.lg().basisIntegral(s);
-        ls = t.lg().basis(s);
-      }
-      q = x.segment(L.points[0].q, nv);
-      v = x.segment(L.points[0].v, nv);
+      // The state polynomials (interpolation.hpp) and the derivative of q(s), Σ_j ℓ_j(s) q̇[n, j]
+      // (first order: the end point's rate).
+      const TrajectoryPoint state = polynomials.atElement(n, s);
+      const Eigen::VectorXd ls = first_order ? Eigen::VectorXd::Ones(1) : t.lg().basis(s);
       qd.setZero();
-      vd.setZero();
-      for (int j = 0; j < P; ++j) {
-        const auto& pt = L.points[L.collocation[j]];
-        q += h * Is[j] * x.segment(pt.v, nv);
-        v += h * Is[j] * x.segment(pt.accel_or_jump, nv);
-        qd += ls[j] * x.segment(pt.v, nv);
-        vd += ls[j] * x.segment(pt.accel_or_jump, nv);
-      }
+      for (int j = 0; j < P; ++j) qd += ls[j] * x.segment(L.points[L.collocation[j]].v, nv);
       // The EOM's q̈ for the interpolated state, inputs and reactions.
       tau = tau_0;
-      for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < P; ++j) tau[t.problem().inputs[i]] += ls[j] * x[L.points[L.collocation[j]].u + i];
-      dynamics::forwardKinematics(model, data, q);
+      for (int i = 0; i < nu; ++i) tau[t.problem().inputs[i]] += state.u[i];
+      dynamics::forwardKinematics(model, data, state.q);
       for (std::size_t c = 0; c < t.contacts().size(); ++c) {
         const ContactPair& cp = t.contacts()[c];
         const auto& C = L.contacts[c];
@@ -155,9 +141,10 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
           contact::addReaction(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), tau.data());
         }
       }
-      const Eigen::VectorXd& qdd = dynamics::aba(model, data, q, v, tau);
-      err_q += (gw[m] / 2) * (qd - v).cwiseAbs();
-      err_v += (gw[m] / 2) * (vd - qdd).cwiseAbs();
+      const Eigen::VectorXd& qdd = dynamics::aba(model, data, state.q, state.v, tau);
+      // ∫ over the element: dt = h ds, and the Gauss rule on [0, 1] has weights w / 2.
+      err_q += (h * gw[m] / 2) * (qd - state.v).cwiseAbs();
+      err_v += (h * gw[m] / 2) * (state.a - qdd).cwiseAbs();
     }
     // Scale by the largest magnitude of each variable on the element.
     for (int i = 0; i < nv; ++i) {

@@ -31,11 +31,12 @@ void writeTrajectoryCsv(const std::string& path, const Transcription& t, const s
 
 // The paper's mean local error (§V.D, Fig. 7): on every element, the difference between the
 // derivative of each state polynomial and the derivative the equations of motion give for the
-// interpolated state, input and reactions, integrated over the element (Gauss rule of P + 1
-// points), divided by the element length and by the largest magnitude of the variable on the
-// element (at least 1 % of its largest magnitude over the trajectory, so that a variable
-// resting at zero does not divide round-off by zero); the mean over elements and state
-// variables.
+// interpolated state, input and reactions, integrated over the element in time (Gauss rule of
+// P + 1 points), divided by the largest magnitude of the variable on the element (at least 1 %
+// of its largest magnitude over the trajectory, so that a variable resting at zero does not
+// divide round-off by zero); the mean over elements and state variables. Dimensionless: the
+// state error one element adds, relative to the state's size. The first-order method's steps
+// are its elements (linear q and q̇ with the end point's rates).
 double meanLocalError(const Transcription& t, const Eigen::VectorXd& x);
 
 }  // namespace saltus::collocation
