@@ -24,6 +24,7 @@ nlohmann::ordered_json toJson(const SweepRecord& r) {
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;
   j["physical"] = r.physical ? nlohmann::ordered_json(*r.physical) : nlohmann::ordered_json();
+  j["physical_required"] = r.physical_required;
   j["success"] = r.success();
   j["replay_deviation"] = r.replay_deviation;
   if (!r.replay_message.empty()) j["replay_message"] = r.replay_message;
@@ -59,6 +60,7 @@ SweepRecord recordFromJson(const nlohmann::json& j) {
     r.feasible = get("feasible").get<bool>();
     r.converged = j.value("converged", r.feasible);  // records before the key: feasible meant converged
     if (!get("physical").is_null()) r.physical = get("physical").get<bool>();
+    r.physical_required = j.value("physical_required", true);
     r.replay_deviation = get("replay_deviation").get<double>();
     r.replay_message = j.value("replay_message", std::string());
     r.iterations = get("iterations").get<int>();

@@ -153,6 +153,7 @@ std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<S
     std::ifstream in(path);
     try {
       records.push_back(recordFromJson(nlohmann::json::parse(in)));
+      records.back().physical_required = c.physical_required;  // the spec in force decides
     } catch (const std::exception& e) {
       throw std::runtime_error(path.string() + ": " + e.what());
     }
@@ -169,6 +170,7 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
   r.method = c.method;
   r.set = c.set;
   r.seed = c.seed;
+  r.physical_required = c.physical_required;
   r.command = command;
   r.exit_code = exit_code;
   const fs::path solution = fs::path(case_dir) / "solution";

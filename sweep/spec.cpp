@@ -156,7 +156,7 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
   YamlReader r(file, {});
   if (!root.IsMap()) r.fail(root, "", "a sweep spec must be a map of keys (problems, methods, set, seeds, options), got " +
                                           scene::describe(root));
-  r.checkMap(root, "", {"problems", "methods", "set", "seeds", "options", "replay"});
+  r.checkMap(root, "", {"problems", "methods", "set", "seeds", "options", "replay", "success"});
   SweepSpec spec;
   spec.file = file;
 
@@ -214,6 +214,14 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
 
   if (root["options"]) readOptions(r, root["options"], spec.options);
   if (root["replay"]) readReplay(r, root["replay"], spec.replay);
+  if (root["success"]) {
+    const std::string rule = r.text(root["success"], "success");
+    if (rule != "physical" && rule != "feasible")
+      r.fail(root["success"], "success", "expected physical (feasible and its replay within tolerance) or feasible, got '" + rule + "'");
+    if (rule == "physical" && !spec.replay.enabled)
+      r.fail(root["success"], "success", "physical needs the replay check, which replay: false turns off");
+    spec.physical_success = rule == "physical";
+  }
   return spec;
 }
 
@@ -300,6 +308,7 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCel
           c.method = method;
           c.set = values;
           c.seed = seed;
+          c.physical_required = spec.physical_success;
           c.id = sanitise(problem.name) + "__" + method;
           for (const auto& [name, value] : values) c.id += "__" + sanitise(name + "=" + formatValue(value));
           c.id += "__seed=" + std::to_string(seed);

@@ -7,6 +7,7 @@
 //   set: {restitution: [0, 0.5], height: [0.05, 0.3]}  # every combination, for every problem
 //   seeds: {from: 1, count: 10}                         # or a list [1, 2, 7]
 //   options: {N: 20, restarts: 0}                        # passed to every solve
+//   success: physical                                    # or feasible (below)
 //
 // A problem may carry a grid of its own, combined with the top-level one:
 //   problems: [{problem: pendulum_conveyor, set: {friction: [0.2, 4]}}]
@@ -62,6 +63,11 @@ struct SweepSpec {
   std::vector<unsigned> seeds;
   SolveSettings options;
   ReplayCheck replay;
+  // What a successful solve is (`success:`): physical (the default) — feasible and, with the
+  // replay check, physically right; feasible — feasible alone, the paper's success (§V.C, its
+  // authors' code: every complementarity product at most 1e-4), the replay still run and
+  // counted under `physical` beside it.
+  bool physical_success = true;
 };
 
 // One solve of the grid.
@@ -72,6 +78,7 @@ struct SweepCase {
   std::string method;
   std::map<std::string, double> set;  // the grid's values (sorted by name)
   unsigned seed = 1;
+  bool physical_required = true;  // the spec's success rule (SweepSpec::physical_success)
   // A cell of the summary: problem, method and parameter values (every seed of a cell).
   std::string cell() const;
   // The arguments after `saltus`: optimize PROBLEM --method M --seed S --set ... --out OUT.

@@ -87,6 +87,23 @@ TEST(SweepRecord, CellsCountSuccessesAndTakeStatisticsOverThem) {
   EXPECT_TRUE(j["cells"][1]["iterations"]["q1"].is_number());
 }
 
+TEST(SweepRecord, UnderTheFeasibleRuleAFeasibleSolveSucceedsWhateverItsReplay) {
+  std::vector<SweepRecord> records = {record("impulsive", 0, 1, true, true, 1.0, 100),
+                                      record("impulsive", 0, 2, true, false, 9.0, 900),
+                                      record("impulsive", 0, 3, false, false, 5.0, 500)};
+  for (SweepRecord& r : records) r.physical_required = false;
+  EXPECT_TRUE(records[1].success());
+  EXPECT_FALSE(records[2].success());
+  const CellSummary c = summarise(records).at(0);
+  EXPECT_EQ(c.successes, 2);
+  EXPECT_EQ(c.physical, 1) << "the replay's verdict is still counted";
+  EXPECT_DOUBLE_EQ(c.wall_seconds.max, 9.0);
+  const SweepRecord back = recordFromJson(toJson(records[1]));
+  EXPECT_FALSE(back.physical_required);
+  EXPECT_TRUE(back.success());
+  EXPECT_EQ(toJson(records[1])["success"], true);
+}
+
 TEST(SweepRecord, CsvQuotesNamesWithCommas) {
   SweepRecord r = record("impulsive", 0, 1, true, true, 1.0, 10);
   r.problem_name = "drop, \"tall\"";

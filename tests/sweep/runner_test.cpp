@@ -86,3 +86,23 @@ TEST(Runner, ASecondSweepInALockedFolderIsRefused) {
 }
 
 }  // namespace
+
+TEST(Runner, TheSpecInForceDecidesWhatSucceededNotTheRecordsFile) {
+  const fs::path dir = runnerScratch("rule");
+  std::vector<SweepCase> cases = oneCase();
+  SweepRecord r;
+  r.id = cases[0].id;
+  r.problem = r.problem_name = "point_mass_drop";
+  r.method = "impulsive";
+  r.status = "Solve_Succeeded";
+  r.feasible = r.converged = true;
+  r.physical = false;  // written under the physical rule: failed
+  fs::create_directories(caseDirectory(dir.string(), cases[0]));
+  std::ofstream(fs::path(caseDirectory(dir.string(), cases[0])) / "record.json") << toJson(r).dump(2);
+  EXPECT_FALSE(readRecords(dir.string(), cases).at(0).success());
+  cases[0].physical_required = false;  // the spec now says success: feasible
+  const SweepRecord now = readRecords(dir.string(), cases).at(0);
+  EXPECT_TRUE(now.success());
+  EXPECT_EQ(now.physical, std::optional<bool>(false));
+  fs::remove_all(dir);
+}

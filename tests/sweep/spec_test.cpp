@@ -97,7 +97,7 @@ TEST(SweepSpec, ProblemPathsAreRelativeToTheSpec) {
 TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
   EXPECT_EQ(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nrepeats: 3\n"),
             "spec.yaml:4:1: repeats: unknown key 'repeats'; expected one of: problems, methods, set, seeds, options, "
-            "replay");
+            "replay, success");
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [implicit]\nseeds: [1]\n")
                 .find("spec.yaml:2:11: methods[0]: expected impulsive, continuous or first-order, got 'implicit'"),
             std::string::npos);
@@ -133,6 +133,22 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
             verify::Restart::MeshAfterJumps);
   EXPECT_EQ(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n", "spec.yaml").replay.restart,
             verify::Restart::None);
+  // The success rule: physical by default, feasible on request (every case carries it); physical
+  // without the replay that decides it, or another word, is refused.
+  const std::string base = "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1, 2]\n";
+  EXPECT_TRUE(parseSweepSpec(base, "spec.yaml").physical_success);
+  for (const SweepCase& c : expandSweep(parseSweepSpec(base, "spec.yaml"))) EXPECT_TRUE(c.physical_required);
+  const SweepSpec feasible = parseSweepSpec(base + "success: feasible\n", "spec.yaml");
+  EXPECT_FALSE(feasible.physical_success);
+  EXPECT_TRUE(feasible.replay.enabled) << "the replay still runs";
+  for (const SweepCase& c : expandSweep(feasible)) EXPECT_FALSE(c.physical_required);
+  EXPECT_NE(errorOf(base + "success: converged\n")
+                .find("spec.yaml:4:10: success: expected physical (feasible and its replay within tolerance) or "
+                      "feasible, got 'converged'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "replay: false\nsuccess: physical\n")
+                .find("spec.yaml:5:10: success: physical needs the replay check, which replay: false turns off"),
+            std::string::npos);
   // A parameter the problem does not have: found before any solve, naming the entry.
   const std::string unknown = errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nset: {mass: [1]}\nseeds: [1]\n");
   EXPECT_NE(unknown.find("spec.yaml: problems[0] (point_mass_drop) with mass=1: "), std::string::npos) << unknown;
