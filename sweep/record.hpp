@@ -5,9 +5,10 @@
 // A solve succeeds when it is feasible (Ipopt succeeded in every stage and every
 // complementarity product is at most the problem's tolerance, paper §III: ε ≤ 1e-4) and, unless
 // the spec says `success: feasible`, physically right (its replay in the time-stepper stays
-// within tolerance, spec.hpp's ReplayCheck; without a replay check, feasible alone). The statistics of time, iterations,
-// mean local error and cost are over the successful solves of a cell, as the paper's Figs. 6–8
-// show its solutions; the wall time over all solves is given too (the time to an answer).
+// within tolerance, spec.hpp's ReplayCheck; without a replay check, feasible alone). The
+// statistics of time, iterations, mean local error and cost are over the successful solves of a
+// cell, as the paper's Figs. 6–8 show its solutions; the wall time over all solves is given too
+// (the time to an answer).
 #pragma once
 
 #include <map>

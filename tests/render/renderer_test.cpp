@@ -7,11 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/pixels.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace {
 
 using namespace saltus::render;
+using saltus::testing::Centroid;
+using saltus::testing::nonBackground;
 
 constexpr int kW = 160, kH = 120;
 
@@ -21,25 +24,6 @@ Eigen::Vector2d projectByHand(const Camera& c, const Eigen::Vector3d& p) {
   const Eigen::Vector3d d = p - c.eye;
   const double focal = (kH / 2.0) / std::tan(c.fov_y / 2);
   return {kW / 2.0 + focal * d.dot(r) / d.dot(f), kH / 2.0 - focal * d.dot(u) / d.dot(f)};
-}
-
-struct Centroid {
-  Eigen::Vector2d at = Eigen::Vector2d::Zero();
-  int pixels = 0;
-};
-Centroid nonBackground(const std::vector<std::uint8_t>& rgb, const Eigen::Vector3f& background) {
-  Centroid c;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * kW + x) * 3];
-      bool differs = false;
-      for (int k = 0; k < 3; ++k) differs = differs || std::abs(int(p[k]) - int(std::lround(255 * background[k]))) > 8;
-      if (!differs) continue;
-      c.at += Eigen::Vector2d(x + 0.5, y + 0.5);  // pixel centres
-      ++c.pixels;
-    }
-  if (c.pixels) c.at /= c.pixels;
-  return c;
 }
 
 TEST(Renderer, SphereAppearsAtItsProjectedCentre) {
@@ -60,7 +44,7 @@ TEST(Renderer, SphereAppearsAtItsProjectedCentre) {
     FrameContent frame;
     frame.pose = geometry.pose(p);
     renderer.draw(camera, frame);
-    const Centroid c = nonBackground(renderer.rgb(), settings.background);
+    const Centroid c = nonBackground(renderer.rgb(), kW, kH, settings.background);
     const Eigen::Vector2d expected = projectByHand(camera, p);
     // a sphere of radius r at distance d covers about π (f r / d)² pixels
     const double radius_px = (kH / 2.0) / std::tan(camera.fov_y / 2) * geometry.shapes()[0].scale.x() / (p - camera.eye).norm();

@@ -24,6 +24,7 @@
 #include "render/renderer.hpp"
 #include "saltus/build_paths.hpp"
 #include "saltus/saltus.hpp"
+#include "tests/support/pixels.hpp"
 
 namespace {
 
@@ -211,23 +212,6 @@ TEST_P(LeggedSolution, ReplayedWithPdTrackingInSaltusAndBulletTheMotionStaysClos
   }
 }
 
-// The centroid of the pixels that are not background, in a frame drawn without the ground.
-Eigen::Vector2d drawnCentroid(const std::vector<std::uint8_t>& rgb, int width, int height, const Eigen::Vector3f& background,
-                              int* pixels) {
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  *pixels = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * width + x) * 3];
-      bool differs = false;
-      for (int k = 0; k < 3; ++k) differs = differs || std::abs(int(p[k]) - int(std::lround(255 * background[k]))) > 8;
-      if (!differs) continue;
-      sum += Eigen::Vector2d(x + 0.5, y + 0.5);
-      ++*pixels;
-    }
-  return *pixels ? Eigen::Vector2d(sum / *pixels) : sum;
-}
-
 // The image column of a world point (look-at camera, focal length (H/2)/tan(fov/2)).
 double projectedColumn(const render::Camera& c, const Eigen::Vector3d& p, int width, int height) {
   const Eigen::Vector3d f = (c.target - c.eye).normalized(), r = f.cross(c.up).normalized();
@@ -260,9 +244,9 @@ TEST_P(LeggedSolution, DrawnFromTheSideTheRobotIsWhereTheTrajectoryPutsIt) {
   for (int k = 0; k < 2; ++k) {
     const int frame = k == 0 ? 0 : last;
     renderer.draw(animation.camera(frame), animation.content(frame));
-    int pixels = 0;
-    column[k] = drawnCentroid(renderer.rgb(), options.width, options.height, settings.background, &pixels).x();
-    EXPECT_GT(pixels, 30) << "frame " << frame << ": the robot is drawn";
+    const saltus::testing::Centroid drawn = saltus::testing::nonBackground(renderer.rgb(), options.width, options.height, settings.background);
+    column[k] = drawn.at.x();
+    EXPECT_GT(drawn.pixels, 30) << "frame " << frame << ": the robot is drawn";
     expected[k] = projectedColumn(animation.camera(frame), base(animation.time(frame)), options.width, options.height);
   }
   // The robot travels metres (the biped stops after about 4 m, the monopod hops 2.5 m along x):
