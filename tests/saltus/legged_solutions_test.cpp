@@ -187,7 +187,7 @@ verify::ReplayOptions trackingOptions(const collocation::Problem& p, verify::Fee
   return o;
 }
 
-TEST_P(LeggedSolution, ReplayedWithPdTrackingInSaltusAndBulletTheMotionStaysCloserThanOpenLoop) {
+TEST_P(LeggedSolution, ReplayedWithPdTrackingInSaltusAndBulletTheJointsStayCloserThanOpenLoop) {
   const verify::ReplayResult open = saltus::replay(solutionDir(GetParam()), trackingOptions(problem(), verify::Feedback::None));
   const verify::ReplayResult tracked = saltus::replay(solutionDir(GetParam()), trackingOptions(problem(), verify::Feedback::Pd));
   ASSERT_EQ(tracked.engines.size(), 2u);
