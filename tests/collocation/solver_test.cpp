@@ -185,12 +185,15 @@ TEST(Solver, PointMassThrowLandsSlidesAndStops) {
     const double x_stop = c.speed * t_f + v_after * v_after / (2 * c.mu * g);
     for (std::size_t i = landing; i < s.rows.size(); ++i) {
       const Sample& r = s.rows[i];
-      if (r.t > t_f + 1e-3 && r.t < t_stop - 0.02 * t_stop)
+      if (r.t > t_f + 1e-3 && r.t < t_stop - 0.02 * t_stop) {
         EXPECT_NEAR(r.v[0], v_after - c.mu * g * (r.t - t_f), 0.02 * c.speed) << "sliding at t = " << r.t;
+      }
       if (r.t > t_stop + 0.02 * t_stop) {
         EXPECT_NEAR(r.v[0], 0, 1e-3) << "at rest at t = " << r.t;
         EXPECT_NEAR(r.q[0], x_stop, 0.01 * x_stop + 1e-3);
-        if (r.point >= 1 && r.point <= s.problem.P) EXPECT_NEAR(r.contacts[0].rn, g, 0.01 * g);
+        if (r.point >= 1 && r.point <= s.problem.P) {
+          EXPECT_NEAR(r.contacts[0].rn, g, 0.01 * g);
+        }
       }
     }
   }
@@ -234,8 +237,9 @@ TEST(Solver, BlockOnACartSlidesWithTheAnalyticAccelerationsInEveryMethod) {
       EXPECT_NEAR(r.q[0], 0.5 * a_cart * r.t * r.t, 1e-4 + a_cart * r.t * h) << "cart at t = " << r.t;
       EXPECT_NEAR(r.q[1], 0.5 * a_block * r.t * r.t, 1e-4 + a_block * r.t * h) << "block at t = " << r.t;
       EXPECT_NEAR(r.q[2], 0.0, 1e-6) << "block height at t = " << r.t;
-      if (r.t > 0.01 && r.contacts[0].rn > 0)
-        EXPECT_NEAR(r.contacts[0].rt[0], mu * r.contacts[0].rn, 1e-3 * m * g) << "friction at t = " << r.t;  // sliding: on the cone
+      if (r.t > 0.01 && r.contacts[0].rn > 0) {  // sliding: on the cone
+        EXPECT_NEAR(r.contacts[0].rt[0], mu * r.contacts[0].rn, 1e-3 * m * g) << "friction at t = " << r.t;
+      }
     }
   }
 }
@@ -415,6 +419,38 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_LE(c.stages[1].largest_product, p.complementarity_tolerance);
   EXPECT_TRUE(c.converged) << c.stages[2].status << ": " << c.note;
   EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
+}
+
+// A feasibility stage stopped by its iteration limit short of the tolerance is tightened too. The
+// drop of the test above, allowed 80 iterations (it needs 106), stops at products of 1.6e-4;
+// without tightening that is the result, infeasible; with it the tightening stage (its own 80
+// iterations) reaches a solution that lands at the analytic time.
+TEST(Solver, AFeasibilityStageStoppedByItsLimitIsTightened) {
+  Problem p = loadProblem("point_mass_drop");
+  p.seed_kind = SeedKind::PerturbedSimulation;
+  p.random_seed = 5;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  SolveOptions o;
+  o.ipopt["max_iter"] = "80";
+  SolveOptions without = o;
+  without.tighten_within = 0;
+  const SolveReport stopped = solve(t, seeding.seed, without);
+  ASSERT_EQ(stopped.stages.size(), 1u);
+  EXPECT_EQ(stopped.stages[0].status, "Maximum_Iterations_Exceeded");
+  EXPECT_FALSE(stopped.feasible);
+  EXPECT_GT(stopped.largest_product, p.complementarity_tolerance);
+
+  const SolveReport r = solve(t, seeding.seed, o);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[0].status, "Maximum_Iterations_Exceeded");
+  EXPECT_EQ(r.stages[1].name, "tighten");
+  EXPECT_TRUE(r.feasible) << r.stages[1].status << ", largest product " << r.largest_product;
+  EXPECT_LE(r.largest_product, p.complementarity_tolerance);
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
 }
 
 // A task stage stopped by its iteration limit at a feasible point leaves a feasible, not
