@@ -573,13 +573,26 @@ std::string fileBytes(const std::string& path) {
   return s.str();
 }
 
-// The problem file's bytes, the model file's (a URDF it reads) and the parameter values.
-std::string problemFingerprint(const std::string& path, const Problem& problem) {
+// What defines the problem: the problem file's content without its solver settings (`ipopt:`,
+// and `solve:` but for the complementarity tolerance, which decides feasibility) or comments,
+// as yaml-cpp emits it; the model file's bytes (a URDF it reads) and the parameter values. A
+// solution stays valid when only how it is solved changes.
+std::string problemFingerprint(const std::string& path, const YAML::Node& root, const Problem& problem) {
   std::uint64_t h = 0xcbf29ce484222325ull;
-  fnv1a(h, fileBytes(path));
+  YAML::Node content = YAML::Clone(root);
+  content.remove("ipopt");
+  content.remove("solve");
+  YAML::Emitter emitted;
+  emitted << content;
+  fnv1a(h, emitted.c_str());
+  char tolerance[64];
+  std::snprintf(tolerance, sizeof tolerance, "complementarity_tolerance=%.17g;", problem.complementarity_tolerance);
+  fnv1a(h, tolerance);
   const std::string& model = problem.scene.model.source;
   std::error_code error;
-  if (!model.empty() && std::filesystem::is_regular_file(model, error)) fnv1a(h, fileBytes(model));
+  // A model written in the problem file (point masses, a rigid body) names the file as its source.
+  const bool own_file = std::filesystem::equivalent(model, path, error);
+  if (!model.empty() && !own_file && std::filesystem::is_regular_file(model, error)) fnv1a(h, fileBytes(model));
   for (const auto& [name, value] : problem.parameters) {
     char text[64];
     std::snprintf(text, sizeof text, "=%.17g;", value);
@@ -620,7 +633,7 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
   } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
     throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
   }
-  problem.fingerprint = problemFingerprint(path, problem);
+  problem.fingerprint = problemFingerprint(path, root, problem);
   return problem;
 }
 

@@ -510,7 +510,7 @@ def sweep_chart(metric, args):
         ax.set_xscale("log")
     ax.set_xlabel(label)
     ax.grid(True, axis="x", which="both", alpha=0.3)
-    if methods:
+    if ax.get_legend_handles_labels()[0]:  # a legend only of the methods with a success
         ax.legend(fontsize=8, loc="best")
     n_ok = len(records)
     ax.set_title("%s over the successful solves (%d of %d); median, interquartile range, range (as in %s)"

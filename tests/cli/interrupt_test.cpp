@@ -243,7 +243,8 @@ TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
 }
 
 // A solution records its problem's fingerprint; replay and render refuse it when the problem
-// changed, unless told to go on (then with a warning).
+// changed, unless told to go on (then with a warning). A comment or a solver option (`ipopt:`)
+// does not change the problem.
 TEST(BeforeAnyWork, ReplaySaysWhenTheProblemChanged) {
   const fs::path dir = saltus::testing::scratchPath("changed", "problem");
   fs::create_directories(dir);
@@ -253,6 +254,17 @@ TEST(BeforeAnyWork, ReplaySaysWhenTheProblemChanged) {
   auto r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
   EXPECT_EQ(r.err.find("changed since this solution was saved"), std::string::npos) << r.err;
   std::ofstream(problem, std::ios::app) << "# edited\n";
+  std::string text = readFile(problem);
+  ASSERT_NE(text.find("tol: 1e-8"), std::string::npos);
+  text.replace(text.find("tol: 1e-8"), 9, "tol: 1e-7");
+  std::ofstream(problem) << text;
+  fs::remove_all(dir / "rep");
+  r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("changed since this solution was saved"), std::string::npos) << r.err;
+  ASSERT_NE(text.find("mass: 1.0"), std::string::npos);
+  text.replace(text.find("mass: 1.0"), 9, "mass: 2.0");
+  std::ofstream(problem) << text;
   const std::string changed = "the problem " + problem.string() + " (or its model file) changed since this solution was saved";
   fs::remove_all(dir / "rep");
   r = runSaltus({"replay", (dir / "sol").string(), "--engine", "saltus", "--out", (dir / "rep").string()});

@@ -81,6 +81,24 @@ TEST(CliSweep, SmallSweepWritesRecordsSummaryReportAndCharts) {
   fs::remove_all(dir);
 }
 
+// A sweep in which nothing succeeds (one Ipopt iteration a stage) still draws its charts, each
+// saying "no success", without a legend of nothing (matplotlib's warning on stderr).
+TEST(CliSweep, ASweepWithoutASuccessDrawsItsChartsWithoutWarnings) {
+  const fs::path dir = sweepDir("no_success");
+  fs::create_directories(dir);
+  std::ofstream(dir / "spec.yaml") << "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: {from: 1, count: 1}\n"
+                                      "options: {restarts: 0, ipopt: {max_iter: 1}}\n";
+  const auto r = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(readFile(dir / "out/summary.json"));
+  ASSERT_EQ(summary["cells"].size(), 1u);
+  EXPECT_EQ(summary["cells"][0]["successes"], 0);
+  for (const char* chart : {"sweep_time.png", "sweep_error.svg", "sweep_cost.png"})
+    EXPECT_GT(fs::file_size(dir / "out/charts" / chart), 1000u) << chart;
+  EXPECT_EQ(r.err.find("No artists"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
 TEST(CliSweep, KilledSweepResumesWithTheSolvesLeft) {
   const fs::path dir = sweepDir("resume");
   writeSpec(dir / "spec.yaml", 4);
