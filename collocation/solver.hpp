@@ -26,10 +26,6 @@
 
 namespace saltus::collocation {
 
-// A feasibility stage stopped by its iteration or time limit is tightened only when its largest
-// product is within this many times the tolerance (and SolveOptions::tighten_within).
-inline constexpr double kTightenStoppedWithin = 100;
-
 struct StageReport {
   std::string name;           // "feasibility" or "task"
   std::string status;         // Ipopt's status name, e.g. "Solve_Succeeded"
@@ -94,9 +90,8 @@ struct SolveOptions {
   // leaves a feasible, not converged, solution.
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
-  // A feasibility stage that ends (Ipopt succeeded, or stopped by its iteration or time limit
-  // within kTightenStoppedWithin times the tolerance) with its largest product above the
-  // tolerance, but within this many times it, is tightened:
+  // A feasibility stage that ends (Ipopt succeeded, or stopped by its iteration or time limit)
+  // with its largest product above the tolerance, but within this many times it, is tightened:
   // a stage minimising Σ ε with every ε bounded by 0.9 × the tolerance (the paper's bounded form
   // of eq. 8), from that point, before any task stage; when it fails the feasibility stage's
   // point is kept. Default: always; 0: never. On the perturbed simulation seeds of
