@@ -1,18 +1,14 @@
 #include "collocation/problem_file.hpp"
 
-#include "collocation/solver.hpp"
-
-
 #include <algorithm>
-#include <cstdint>
-#include <sstream>
-#include <fstream>
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
 
+#include "collocation/problem_fingerprint.hpp"
+#include "collocation/solver.hpp"
 #include "scene/scenario.hpp"
 #include "scene/yaml_reader.hpp"
 
@@ -559,51 +555,6 @@ std::vector<std::string> builtinProblemNames() {
   return scene::yamlFileNames(problemsDirectory());
 }
 
-namespace {
-
-// FNV-1a, 64 bits: a fingerprint, not a defence against a forger.
-void fnv1a(std::uint64_t& h, const std::string& bytes) {
-  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
-}
-
-std::string fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// What defines the problem: the problem file's content without its solver settings (`ipopt:`,
-// and `solve:` but for the complementarity tolerance, which decides feasibility) or comments,
-// as yaml-cpp emits it; the model file's bytes (a URDF it reads) and the parameter values. A
-// solution stays valid when only how it is solved changes.
-std::string problemFingerprint(const std::string& path, const YAML::Node& root, const Problem& problem) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  YAML::Node content = YAML::Clone(root);
-  content.remove("ipopt");
-  content.remove("solve");
-  YAML::Emitter emitted;
-  emitted << content;
-  fnv1a(h, emitted.c_str());
-  char tolerance[64];
-  std::snprintf(tolerance, sizeof tolerance, "complementarity_tolerance=%.17g;", problem.complementarity_tolerance);
-  fnv1a(h, tolerance);
-  const std::string& model = problem.scene.model.source;
-  std::error_code error;
-  // A model written in the problem file (point masses, a rigid body) names the file as its source.
-  const bool own_file = std::filesystem::equivalent(model, path, error);
-  if (!model.empty() && !own_file && std::filesystem::is_regular_file(model, error)) fnv1a(h, fileBytes(model));
-  for (const auto& [name, value] : problem.parameters) {
-    char text[64];
-    std::snprintf(text, sizeof text, "=%.17g;", value);
-    fnv1a(h, name + text);
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
-
-}  // namespace
 
 Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
   const auto [path, source] = scene::resolveYamlFile(name_or_path, problemsDirectory(), "problem", "problem file");

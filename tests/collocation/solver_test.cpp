@@ -16,6 +16,7 @@
 #include "dynamics/rnea.hpp"
 #include "scene/scenario.hpp"
 #include "tests/support/pendulum.hpp"
+#include "tests/support/problems.hpp"
 #include "tests/support/rk4.hpp"
 
 namespace saltus::collocation {

@@ -1,0 +1,23 @@
+// A problem's fingerprint, saved with its solutions (saved_solution.hpp) so that replaying or
+// drawing a solution of a problem that has since changed is refused (or warned about).
+//
+// It covers what defines the problem: the problem file's content as yaml-cpp emits it (so not its
+// comments or layout) without its solver settings (`ipopt:`, and `solve:` but for the
+// complementarity tolerance, which decides feasibility); the model file's bytes when the model
+// is a file of its own (a URDF); the parameter values (defaults and --set). A solution stays
+// valid when only how it is solved changes.
+#pragma once
+
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "collocation/problem.hpp"
+
+namespace saltus::collocation {
+
+// 16 hexadecimal digits (FNV-1a, 64 bits: a fingerprint, not a defence against a forger) of the
+// problem read from `path`, whose parsed root node is `root`.
+std::string problemFingerprint(const std::string& path, const YAML::Node& root, const Problem& problem);
+
+}  // namespace saltus::collocation
