@@ -13,17 +13,12 @@
 #include <gtest/gtest.h>
 
 #include "saltus/saltus.hpp"
+#include "tests/support/files.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using saltus::testing::readFile;
 
 // The message of the std::invalid_argument `f` throws ("" when it throws none).
 template <class F>

@@ -11,17 +11,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "tests/support/files.hpp"
+
 namespace saltus::scene {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using saltus::testing::readFile;
 
 // A fresh folder per test, removed afterwards.
 class AtomicFileTest : public ::testing::Test {
@@ -47,7 +43,7 @@ TEST_F(AtomicFileTest, WritesTheWholeTextAndLeavesNoTemporary) {
   const fs::path target = dir_ / "out.txt";
   writeFileAtomically(target.string(), "first\n");
   writeFileAtomically(target.string(), "second, longer\n");  // replaces a regular file
-  EXPECT_EQ(readText(target), "second, longer\n");
+  EXPECT_EQ(readFile(target), "second, longer\n");
   EXPECT_EQ(strayFiles("out.txt"), 0);
 }
 
@@ -60,7 +56,7 @@ TEST_F(AtomicFileTest, AnUncommittedFileLeavesTheTargetAsItWas) {
     EXPECT_TRUE(fs::exists(file.temporaryPath()));
     EXPECT_EQ(fs::path(file.temporaryPath()).parent_path(), target.parent_path());  // same file system
   }  // destroyed before commit(), as by an exception
-  EXPECT_EQ(readText(target), "old\n");
+  EXPECT_EQ(readFile(target), "old\n");
   EXPECT_EQ(strayFiles("out.txt"), 0);
 }
 
@@ -79,7 +75,7 @@ TEST_F(AtomicFileTest, RefusesToReplaceWhatIsNotARegularFile) {
     }
   }
   EXPECT_TRUE(fs::is_symlink(link));
-  EXPECT_EQ(readText(real), "kept\n");
+  EXPECT_EQ(readFile(real), "kept\n");
   EXPECT_TRUE(fs::is_directory(folder));
 }
 
@@ -96,7 +92,7 @@ TEST_F(AtomicFileTest, ADeviceOrAPipeIsWrittenIntoNotReplaced) {
   const fs::path fifo = dir_ / "pipe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string got;
-  std::thread reader([&] { got = readText(fifo); });
+  std::thread reader([&] { got = readFile(fifo); });
   writeFileAtomically(fifo.string(), "through the pipe\n");
   reader.join();
   EXPECT_EQ(got, "through the pipe\n");
@@ -113,7 +109,7 @@ TEST_F(AtomicFileTest, AFileWrittenByAnotherProgramIsRenamedOnCommit) {
   std::ofstream(file.temporaryPath()) << "encoded";  // as the encoder would
   EXPECT_FALSE(fs::exists(target));
   file.commit();
-  EXPECT_EQ(readText(target), "encoded");
+  EXPECT_EQ(readFile(target), "encoded");
   EXPECT_EQ(strayFiles("video.mp4"), 0);
 }
 

@@ -10,14 +10,15 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using namespace saltus::sweep;
 
 fs::path slurmScratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("saltus_slurm_unit_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
+  const fs::path d = saltus::testing::scratchPath("slurm_unit", name);
   fs::create_directories(d);
   return d;
 }
