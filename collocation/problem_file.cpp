@@ -584,7 +584,7 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
   } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
     throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
   }
-  problem.fingerprint = problemFingerprint(path, root, problem);
+  problem.fingerprint = problemFingerprint(root, problem);
   return problem;
 }
 

@@ -23,7 +23,7 @@ std::string fileBytes(const std::string& path) {
 
 }  // namespace
 
-std::string problemFingerprint(const std::string& path, const YAML::Node& root, const Problem& problem) {
+std::string problemFingerprint(const YAML::Node& root, const Problem& problem) {
   std::uint64_t h = 0xcbf29ce484222325ull;
   YAML::Node content = YAML::Clone(root);
   content.remove("ipopt");
@@ -34,11 +34,10 @@ std::string problemFingerprint(const std::string& path, const YAML::Node& root, 
   char tolerance[64];
   std::snprintf(tolerance, sizeof tolerance, "complementarity_tolerance=%.17g;", problem.complementarity_tolerance);
   fnv1a(h, tolerance);
-  // A model written in the problem file (point masses, a rigid body) names the file as its source.
-  const std::string& model = problem.scene.model.source;
+  // The URDF files the model was read from (a model written in the problem file is in its text).
   std::error_code error;
-  const bool own_file = std::filesystem::equivalent(model, path, error);
-  if (!model.empty() && !own_file && std::filesystem::is_regular_file(model, error)) fnv1a(h, fileBytes(model));
+  for (const std::string& urdf : problem.scene.model_files)
+    if (std::filesystem::is_regular_file(urdf, error)) fnv1a(h, fileBytes(urdf));
   for (const auto& [name, value] : problem.parameters) {
     char text[64];
     std::snprintf(text, sizeof text, "=%.17g;", value);

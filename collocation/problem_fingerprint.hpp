@@ -17,7 +17,8 @@
 namespace saltus::collocation {
 
 // 16 hexadecimal digits (FNV-1a, 64 bits: a fingerprint, not a defence against a forger) of the
-// problem read from `path`, whose parsed root node is `root`.
-std::string problemFingerprint(const std::string& path, const YAML::Node& root, const Problem& problem);
+// problem whose file's parsed root node is `root`: that content without its solver settings, the
+// bytes of the URDF files its model was read from (Scene::model_files) and the parameters.
+std::string problemFingerprint(const YAML::Node& root, const Problem& problem);
 
 }  // namespace saltus::collocation

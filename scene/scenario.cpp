@@ -1,7 +1,6 @@
 #include "scene/scenario.hpp"
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -12,11 +11,11 @@
 #include <set>
 #include <sstream>
 
-#include "dynamics/builder.hpp"
 #include "dynamics/configuration.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "dynamics/urdf.hpp"
+#include "scene/model_section.hpp"
 #include "saltus/build_paths.hpp"
 
 namespace saltus::scene {
@@ -27,14 +26,6 @@ using dynamics::Model;
 
 namespace {
 
-// R = Rz(yaw) Ry(pitch) Rx(roll), the URDF rpy convention.
-Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 // Reads the scene keys of a scenario (or problem) file through a YamlReader, which holds the
 // file's parameters.
 class Loader {
@@ -44,17 +35,6 @@ class Loader {
   Scene load(const YAML::Node& root, const std::vector<std::string>& extra_keys);
 
  private:
-  Model<double> readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
-                          const YAML::Node& base_node);
-  void addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node, const std::string& path,
-                    std::set<std::string>& names);
-  // One point mass (a map) or several (a list), each on its own axes from the world.
-  Model<double> readPointMasses(const YAML::Node& node, const std::string& path, BaseType base,
-                                const Eigen::Vector3d& gravity, const YAML::Node& base_node);
-  Model<double> readRigidBody(const YAML::Node& node, const std::string& path, BaseType base,
-                              const Eigen::Vector3d& gravity, const YAML::Node& base_node);
-  std::vector<dynamics::Visual> readVisuals(const YAML::Node& node, const std::string& path,
-                                            const std::string& link, int body);
   Eigen::VectorXd readInitialConfiguration(const YAML::Node& node, const Model<double>& model);
   Eigen::VectorXd readCoordinateMap(const YAML::Node& node, const std::string& path,
                                     const Model<double>& model);
@@ -68,176 +48,6 @@ class Loader {
   YamlReader& r_;
 };
 
-
-std::vector<dynamics::Visual> Loader::readVisuals(const YAML::Node& node, const std::string& path,
-                                                  const std::string& link, int body) {
-  std::vector<dynamics::Visual> visuals;
-  if (!node.IsDefined()) return visuals;
-  r_.checkSequence(node, path);
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    const YAML::Node v = node[i];
-    const std::string p = indexPath(path, i);
-    r_.checkMap(v, p, {"shape", "size", "xyz", "rpy", "rgba"});
-    dynamics::Visual vis;
-    vis.link = link;
-    vis.body = body;
-    const YAML::Node shape = r_.required(v, p, "shape"), size = r_.required(v, p, "size");
-    const std::string s = r_.text(shape, keyPath(p, "shape"));
-    if (s == "box") {
-      vis.shape = dynamics::Visual::Shape::Box;
-      vis.size = r_.vec3(size, keyPath(p, "size"));
-    } else if (s == "cylinder") {
-      vis.shape = dynamics::Visual::Shape::Cylinder;
-      const Eigen::VectorXd rl = r_.vector(size, keyPath(p, "size"), 2);
-      vis.size = Eigen::Vector3d(rl[0], rl[1], 0);
-    } else if (s == "sphere") {
-      vis.shape = dynamics::Visual::Shape::Sphere;
-      vis.size = Eigen::Vector3d(size.IsSequence() ? r_.vector(size, keyPath(p, "size"), 1)[0]
-                                                   : r_.number(size, keyPath(p, "size")),
-                                 0, 0);
-    } else {
-      r_.fail(shape, keyPath(p, "shape"), "unknown shape '" + s + "'; expected one of: box, cylinder, sphere");
-    }
-    if ((vis.size.array() < 0).any() || vis.size.isZero() || vis.size.maxCoeff() > 1e6)
-      r_.fail(size, keyPath(p, "size"), "sizes must be positive and at most 1e6 m, got " + fmt(vis.size));
-    vis.p_BG = r_.vec3(v, p, "xyz", Eigen::Vector3d::Zero());
-    vis.R_BG = rpyToMatrix(r_.vec3(v, p, "rpy", Eigen::Vector3d::Zero()));
-    if (v["rgba"].IsDefined()) vis.rgba = r_.vector(v["rgba"], keyPath(p, "rgba"), 4);
-    visuals.push_back(vis);
-  }
-  return visuals;
-}
-
-// A point mass on a chain of prismatic coordinates from the world, one per axis (world axes),
-// through massless intermediate links named <link>_<coordinate>; added to `b`.
-void Loader::addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node, const std::string& path,
-                          std::set<std::string>& names) {
-  r_.checkMap(node, path, {"mass", "axes", "link", "visuals"});
-  const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
-  if (!(mass > 0)) r_.fail(node["mass"], keyPath(path, "mass"), "mass must be positive, got " + fmt(mass));
-  const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : "mass";
-  if (link == "world") r_.fail(node["link"], keyPath(path, "link"), "'world' is the name of the fixed frame");
-  if (!names.insert("link " + link).second)
-    r_.fail(node["link"].IsDefined() ? node["link"] : node, keyPath(path, "link"),
-            "link '" + link + "' is used twice (give each point mass a distinct link)");
-  const YAML::Node axes = r_.required(node, path, "axes");
-  const std::string apath = keyPath(path, "axes");
-  r_.checkNameMap(axes, apath);
-  if (axes.size() == 0 || axes.size() > 3) r_.fail(axes, apath, "expected 1 to 3 coordinates (name: axis)");
-  Eigen::Matrix3d span = Eigen::Matrix3d::Zero();
-  std::string parent = "world";
-  int i = 0;
-  for (auto it = axes.begin(); it != axes.end(); ++it, ++i) {
-    const std::string name = it->first.Scalar();
-    const std::string p = keyPath(apath, name);
-    if (!names.insert("coordinate " + name).second)
-      r_.fail(it->first, p, "coordinate '" + name + "' is used twice (give each point mass's coordinates distinct names)");
-    const Eigen::Vector3d a = r_.vec3(it->second, p);
-    if (!(a.norm() > 1e-12)) r_.fail(it->second, p, "an axis must be a non-zero vector");
-    span.col(i) = a.normalized();
-    Eigen::FullPivLU<Eigen::Matrix3d> lu(span.leftCols(i + 1) * span.leftCols(i + 1).transpose());
-    if (lu.rank() < i + 1)
-      r_.fail(it->second, p, "axis " + fmt(a) + " is a combination of the previous axes (the mass matrix would be singular)");
-    const bool last = i + 1 == static_cast<int>(axes.size());
-    const std::string child = last ? link : link + "_" + name;
-    if (last)
-      b.addLink(link, mass, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
-    else
-      b.addLink(child);
-    dynamics::JointSpec j;
-    j.name = name;
-    j.type = dynamics::LinkJointType::Prismatic;
-    j.parent = parent;
-    j.child = child;
-    j.axis = span.col(i);
-    b.addJoint(j);
-    parent = child;
-  }
-  for (dynamics::Visual v : readVisuals(node["visuals"], keyPath(path, "visuals"), link, -1)) b.addVisual(link, v);
-}
-
-Model<double> Loader::readPointMasses(const YAML::Node& node, const std::string& path, BaseType base,
-                                      const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
-  if (base != BaseType::Fixed)
-    r_.fail(base_node, "base", "point masses move along their own axes from the world: base must be fixed");
-  dynamics::ModelBuilder b(node.IsSequence() ? "point_masses" : "point_mass");
-  b.setSource(r_.file());
-  b.addLink("world");
-  std::set<std::string> names;  // links and coordinates so far
-  if (node.IsSequence()) {
-    if (node.size() == 0) r_.fail(node, path, "expected a list of at least one point mass");
-    for (std::size_t i = 0; i < node.size(); ++i) addPointMass(b, node[i], indexPath(path, i), names);
-  } else {
-    addPointMass(b, node, path, names);
-  }
-  try {
-    return b.build(BaseType::Fixed, gravity);
-  } catch (const dynamics::ModelError& e) {  // e.g. a link name clashing with an intermediate link
-    r_.fail(node, path, e.what());
-  }
-}
-
-Model<double> Loader::readRigidBody(const YAML::Node& node, const std::string& path, BaseType base,
-                                    const Eigen::Vector3d& gravity, const YAML::Node& base_node) {
-  r_.checkMap(node, path, {"mass", "com", "inertia", "link", "visuals"});
-  if (base == BaseType::Fixed)
-    r_.fail(base_node.IsDefined() ? base_node : node, "base",
-         "a rigid_body model needs a moving base: base must be planar or free");
-  const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
-  const Eigen::Vector3d com = r_.vec3(node, path, "com", Eigen::Vector3d::Zero());
-  const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : "body";
-  const YAML::Node in = r_.required(node, path, "inertia");
-  const std::string ipath = keyPath(path, "inertia");
-  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
-  if (in.IsSequence() && in.size() == 3 && in[0].IsScalar()) {
-    I.diagonal() = r_.vec3(in, ipath);
-  } else if (in.IsSequence() && in.size() == 3) {
-    for (int r = 0; r < 3; ++r) I.row(r) = r_.vec3(in[r], indexPath(ipath, r)).transpose();
-  } else {
-    r_.fail(in, ipath, "expected the principal moments [Ixx, Iyy, Izz] or a 3x3 matrix [[...], [...], [...]], got " +
-                        (in.IsSequence() ? "a sequence of " + std::to_string(in.size()) : describe(in)));
-  }
-  const std::string why = dynamics::checkInertia(mass, I, false);
-  if (!why.empty()) r_.fail(in, ipath, why);
-  dynamics::ModelBuilder b("rigid_body");
-  b.setSource(r_.file());
-  b.addLink(link, mass, com, I);
-  for (dynamics::Visual v : readVisuals(node["visuals"], keyPath(path, "visuals"), link, -1))
-    b.addVisual(link, v);
-  try {
-    return b.build(base, gravity);
-  } catch (const dynamics::ModelError& e) {
-    r_.fail(node, path, e.what());
-  }
-}
-
-Model<double> Loader::readModel(const YAML::Node& node, BaseType base, const Eigen::Vector3d& gravity,
-                                const YAML::Node& base_node) {
-  r_.checkMap(node, "model", {"urdf", "point_mass", "point_masses", "rigid_body"});
-  if (node.size() == 0) r_.fail(node, "model", "expected exactly one of: urdf, point_mass, point_masses, rigid_body");
-  if (node.size() > 1) {
-    auto second = std::next(node.begin());
-    r_.fail(second->first, keyPath("model", second->first.Scalar()),
-         "expected exactly one of: urdf, point_mass, point_masses, rigid_body ('" + node.begin()->first.Scalar() +
-             "' is already given)");
-  }
-  if (node["point_mass"].IsDefined())
-    return readPointMasses(node["point_mass"], "model.point_mass", base, gravity, base_node);
-  if (node["point_masses"].IsDefined()) {
-    r_.checkSequence(node["point_masses"], "model.point_masses");
-    return readPointMasses(node["point_masses"], "model.point_masses", base, gravity, base_node);
-  }
-  if (node["rigid_body"].IsDefined())
-    return readRigidBody(node["rigid_body"], "model.rigid_body", base, gravity, base_node);
-  const YAML::Node u = node["urdf"];
-  fs::path urdf = r_.text(u, "model.urdf");
-  if (urdf.is_relative()) urdf = fs::path(r_.file()).parent_path() / urdf;
-  try {
-    return dynamics::readUrdfFile(urdf.lexically_normal().string()).build(base, gravity);
-  } catch (const dynamics::ModelError& e) {
-    r_.fail(u, "model.urdf", e.what());
-  }
-}
 
 int Loader::coordinate(const YAML::Node& name_node, const std::string& path, const Model<double>& model) const {
   const std::string name = r_.text(name_node, path);
@@ -554,7 +364,9 @@ Scene Loader::load(const YAML::Node& root, const std::vector<std::string>& extra
     r_.fail(root["gravity"], "gravity", "expected an acceleration of at most " + fmt(kMaxGravity) +
                                             " m/s^2 in magnitude (about 100 g), got " + fmt(gravity) + " (magnitude " +
                                             fmt(gravity.stableNorm()) + ")");
-  scene.model = readModel(r_.required(root, "", "model"), base, gravity, base_node);
+  ModelSection section = readModelSection(r_, r_.required(root, "", "model"), base, gravity, base_node);
+  scene.model = std::move(section.model);
+  scene.model_files = std::move(section.urdf_files);
 
   const YAML::Node initial = root["initial"];
   const bool has_initial = initial.IsDefined() && !initial.IsNull();

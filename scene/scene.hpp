@@ -123,6 +123,7 @@ struct Scene {
   std::string description;
   std::string source;  // scenario file, or "builtin:<name>"
   dynamics::Model<double> model;
+  std::vector<std::string> model_files;  // URDF files the model was read from (none for one written in the file)
   std::vector<Surface> surfaces;
   std::vector<Contact> contacts;
   std::vector<LimitStop> limits;

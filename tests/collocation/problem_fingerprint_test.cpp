@@ -14,18 +14,13 @@
 
 #include "collocation/problem_file.hpp"
 #include "saltus/build_paths.hpp"
+#include "tests/support/files.hpp"
 
 namespace saltus::collocation {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using saltus::testing::readFile;
 
 // `text` with its first `from` replaced by `to` (which must be there).
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
@@ -54,7 +49,7 @@ class Fingerprint : public ::testing::Test {
 };
 
 TEST_F(Fingerprint, CommentsLayoutAndSolverSettingsDoNotChangeIt) {
-  const std::string drop = readText(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml");
+  const std::string drop = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml");
   const std::string base = of(drop);
   EXPECT_EQ(base.size(), 16u);
   EXPECT_EQ(of(drop), base);  // deterministic
@@ -65,7 +60,7 @@ TEST_F(Fingerprint, CommentsLayoutAndSolverSettingsDoNotChangeIt) {
 }
 
 TEST_F(Fingerprint, WhatDefinesTheProblemChangesIt) {
-  const std::string drop = readText(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml");
+  const std::string drop = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml");
   const std::string base = of(drop);
   EXPECT_NE(of(replaced(drop, "mass: 1.0", "mass: 2.0")), base);
   EXPECT_NE(of(replaced(drop, "N: 20", "N: 21")), base);
@@ -74,12 +69,28 @@ TEST_F(Fingerprint, WhatDefinesTheProblemChangesIt) {
 }
 
 TEST_F(Fingerprint, AUrdfModelFileIsPartOfIt) {
-  const std::string biped = readText(fs::path(SALTUS_SOURCE_DIR) / "models/problems/biped_stop.yaml");
-  const std::string urdf = readText(fs::path(SALTUS_SOURCE_DIR) / "models/biped/biped.urdf");
+  const std::string biped = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/problems/biped_stop.yaml");
+  const std::string urdf = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/biped/biped.urdf");
   std::ofstream(dir_ / "biped" / "biped.urdf") << urdf;
   const std::string base = of(biped);
   std::ofstream(dir_ / "biped" / "biped.urdf") << urdf << "<!-- edited -->\n";
   EXPECT_NE(of(biped), base);
+}
+
+// A model of parts hashes every URDF it reads: the drop with a (fixed) biped beside the ball.
+TEST_F(Fingerprint, EveryUrdfOfAModelOfPartsIsPartOfIt) {
+  const std::string drop = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/problems/point_mass_drop.yaml");
+  const std::string parts =
+      replaced(replaced(drop, "    visuals:\n      - {shape: sphere, size: 0.01, xyz: [0, 0, 0.01], rgba: [0.8, 0.2, 0.2, 1]}\n", ""),
+               "model:\n  point_mass:\n    mass: 1.0\n    link: ball\n    axes: {z: [0, 0, 1]}\n",
+               "model:\n  parts:\n    - point_mass: {mass: 1.0, link: ball, axes: {z: [0, 0, 1]}}\n"
+               "    - {name: robot, urdf: ../biped/biped.urdf}\n");
+  const std::string urdf = readFile(fs::path(SALTUS_SOURCE_DIR) / "models/biped/biped.urdf");
+  std::ofstream(dir_ / "biped" / "biped.urdf") << urdf;
+  const std::string base = of(parts);
+  EXPECT_NE(base, of(drop));
+  std::ofstream(dir_ / "biped" / "biped.urdf") << urdf << "<!-- edited -->\n";
+  EXPECT_NE(of(parts), base);
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ def test_a_control_loop_closed_in_python_holds_the_ball():
 
 @pytest.mark.parametrize("scene", ["ball_drop", "block_slide", "pendulum_conveyor", "painleve_rod", "block_on_cart",
                                    "block_on_slab", "rocking_block", "newtons_cradle", "box_on_corners", "chain_on_stops",
-                                   "fast_spin", "hyq_drop", "box_stack"])
+                                   "fast_spin", "hyq_drop", "box_stack", "skateboard"])
 def test_every_built_in_scene_saves_the_commands_trajectory(scene, tmp_path, saltus_binary):
     r = saltus.simulate(scene, dt=2e-3)
     r.save(str(tmp_path / "python.csv"))

@@ -64,7 +64,7 @@ TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners", "box_stack",
                                       "chain_on_stops", "fast_spin", "hyq_drop", "newtons_cradle", "painleve_rod",
-                                      "pendulum_conveyor", "rocking_block"}));
+                                      "pendulum_conveyor", "rocking_block", "skateboard"}));
 }
 
 TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
@@ -73,7 +73,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
       {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
       {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}},     {"hyq_drop", {18, 4}},
-      {"box_stack", {3, 3}}};
+      {"box_stack", {3, 3}},         {"skateboard", {7, 5}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);

@@ -284,9 +284,12 @@ TEST(Stepper, NoHeapAllocationPerStepAfterTheFirst) {
   for (const char* name : {"rocking_block", "newtons_cradle", "chain_on_stops", "fast_spin", "block_on_cart", "hyq_drop", "box_stack"})
     scenes.push_back(scene::loadScene(name));
   scenes.push_back(scene::loadScene("box_on_corners", {{"drop", 0.05}}));
+  scenes.push_back(scene::loadScene("skateboard", {{"front_lift", 1.0}}));  // parts; feet on a moving plane
   for (const Scene& scene : scenes) {
     for (LcpMethod solver : {LcpMethod::Lemke, LcpMethod::Pgs}) {
-      if (solver == LcpMethod::Pgs && scene.name == "hyq_drop") continue;  // PGS fails there (below)
+      // PGS fails on hyq_drop (below) and on the skateboard (500 sweeps leave a residual of 3e-8 at the
+      // first step: 36.5 kg feet on a 2.38 kg board, a mass ratio of 15).
+      if (solver == LcpMethod::Pgs && (scene.name == "hyq_drop" || scene.name == "skateboard")) continue;
       TimeStepper sim(scene, options(1e-3, 0.5, solver));
       sim.step();
       const long before = saltus::testing::heapAllocations();
