@@ -108,7 +108,7 @@ void ModelReader::addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node
   if (link == "world") r_.fail(node["link"], keyPath(path, "link"), "'world' is the name of the fixed frame");
   if (!names.insert("link " + link).second)
     r_.fail(node["link"].IsDefined() ? node["link"] : node, keyPath(path, "link"),
-            "link '" + link + "' is used twice (give each point mass a distinct link)");
+            "link '" + link + "' is used twice (give every link of the model a distinct name)");
   const YAML::Node axes = r_.required(node, path, "axes");
   const std::string apath = keyPath(path, "axes");
   r_.checkNameMap(axes, apath);
@@ -119,8 +119,8 @@ void ModelReader::addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node
   for (auto it = axes.begin(); it != axes.end(); ++it, ++i) {
     const std::string name = it->first.Scalar();
     const std::string p = keyPath(apath, name);
-    if (!names.insert("coordinate " + name).second)
-      r_.fail(it->first, p, "coordinate '" + name + "' is used twice (give each point mass's coordinates distinct names)");
+    if (!names.insert("joint " + name).second)
+      r_.fail(it->first, p, "coordinate '" + name + "' is used twice (give every coordinate of the model a distinct name)");
     const Eigen::Vector3d a = r_.vec3(it->second, p);
     if (!(a.norm() > 1e-12)) r_.fail(it->second, p, "an axis must be a non-zero vector");
     span.col(i) = a.normalized();
@@ -129,6 +129,8 @@ void ModelReader::addPointMass(dynamics::ModelBuilder& b, const YAML::Node& node
       r_.fail(it->second, p, "axis " + fmt(a) + " is a combination of the previous axes (the mass matrix would be singular)");
     const bool last = i + 1 == static_cast<int>(axes.size());
     const std::string child = last ? link : link + "_" + name;
+    if (!last && !names.insert("link " + child).second)
+      r_.fail(it->first, p, "the intermediate link '" + child + "' of this coordinate is already a link of the model");
     if (last)
       b.addLink(link, mass, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero());
     else
@@ -173,7 +175,8 @@ dynamics::LinkSpec ModelReader::readRigidBodyLink(const YAML::Node& node, const 
   const double mass = r_.number(r_.required(node, path, "mass"), keyPath(path, "mass"));
   const Eigen::Vector3d com = r_.vec3(node, path, "com", Eigen::Vector3d::Zero());
   const std::string link = node["link"].IsDefined() ? r_.text(node["link"], keyPath(path, "link")) : default_link;
-  if (link == "world") r_.fail(node["link"], keyPath(path, "link"), "'world' is the name of the fixed frame");
+  if (link == "world")
+    r_.fail(node["link"].IsDefined() ? node["link"] : node, keyPath(path, "link"), "'world' is the name of the fixed frame");
   const YAML::Node in = r_.required(node, path, "inertia");
   const std::string ipath = keyPath(path, "inertia");
   Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
@@ -264,12 +267,17 @@ void ModelReader::addPart(dynamics::ModelBuilder& b, const YAML::Node& node, con
   for (const auto& l : alone.links())
     if (!children.count(l.name)) root = l.name;
 
+  const YAML::Node body_node = node["urdf"].IsDefined() ? node["urdf"] : node["rigid_body"];
+  const std::string body_path = keyPath(path, node["urdf"].IsDefined() ? "urdf" : "rigid_body");
+  if (root == "world" && base != BaseType::Fixed)
+    r_.fail(base_node, keyPath(path, "base"), "the URDF's root link is 'world', fixed to the world: its part takes base fixed");
   auto claim = [&](const std::string& kind, const std::string& name) {
     if (name == "world" && kind == "link")
-      r_.fail(node, path, "part '" + part + "' has a link named 'world', the name of the fixed frame");
+      r_.fail(body_node, body_path, "part '" + part + "' has a link named 'world', the name of the fixed frame");
     if (!names.insert(kind + " " + name).second)
-      r_.fail(node, path, kind + " '" + name + "' of part '" + part +
-                              "' is also in an earlier part (the parts' links and joints need distinct names)");
+      r_.fail(body_node, body_path, kind + " '" + name + "' of part '" + part +
+                                        "' is already in the model (an earlier part, or this part's base "
+                                        "coordinates <part>_x ...): links and joints need distinct names");
   };
   // The base: the world's axes, as dynamics::ModelBuilder's multi-coordinate base joints.
   struct Axis {
@@ -314,9 +322,14 @@ void ModelReader::addPart(dynamics::ModelBuilder& b, const YAML::Node& node, con
     claim("joint", weld.name);
     b.addJoint(weld);
   }
-  for (const auto& l : alone.links()) {
+  const fs::path folder = node["urdf"].IsDefined() ? fs::path(urdfPath(node["urdf"], keyPath(path, "urdf"))).parent_path() : fs::path();
+  for (dynamics::LinkSpec l : alone.links()) {
     if (own_world && l.name == "world") continue;
     claim("link", l.name);
+    // A mesh path relative to the URDF's folder, made absolute: the model's source is the scene file.
+    for (dynamics::Visual& v : l.visuals)
+      if (!v.mesh_file.empty() && v.mesh_file.find("://") == std::string::npos && fs::path(v.mesh_file).is_relative())
+        v.mesh_file = (folder / v.mesh_file).lexically_normal().string();
     b.addLink(l);
   }
   for (const auto& j : alone.joints()) {
@@ -347,6 +360,8 @@ ModelSection ModelReader::readParts(const YAML::Node& node, const std::string& p
       // A point mass moves on its own axes from the world: its coordinates are named in `axes`.
       if (part["base"].IsDefined())
         r_.fail(part["base"], keyPath(p, "base"), "a point mass moves along its own axes from the world: it takes no base");
+      if (part["name"].IsDefined())
+        r_.fail(part["name"], keyPath(p, "name"), "a point mass is named by its link and its coordinates by its axes: it takes no name");
       addPointMass(b, part["point_mass"], keyPath(p, "point_mass"), names);
     } else {
       addPart(b, part, p, names, section.urdf_files, gravity);

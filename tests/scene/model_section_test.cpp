@@ -15,6 +15,7 @@
 #include <string>
 
 #include "dynamics/aba.hpp"
+#include "dynamics/builder.hpp"
 #include "dynamics/crba.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
@@ -158,6 +159,33 @@ TEST_F(ModelSection, AFixedPartHasOnlyItsJointsCoordinates) {
   EXPECT_EQ(s.model.coordinate_name[arm.nv()], "block_x");
 }
 
+// A part of one rigid body on an Euler base, and a URDF part welded to the world (its root is not
+// named "world"), against the models of them alone.
+TEST_F(ModelSection, AFreeRigidBodyAndAWeldedUrdf) {
+  const Scene s = load("model:\n  parts:\n    - {name: box, base: free, rigid_body: {mass: 2, com: [0.1, 0, 0], inertia: [0.1, 0.2, 0.25]}}\n");
+  dynamics::ModelBuilder b("box");
+  b.addLink("box", 2.0, Eigen::Vector3d(0.1, 0, 0), Eigen::Vector3d(0.1, 0.2, 0.25).asDiagonal());
+  expectSameDynamics(b.build(BaseType::Free), s.model, 4);
+  EXPECT_EQ(s.model.coordinate_name[3], "box_yaw");
+  const Scene welded = load("model:\n  parts:\n    - {name: robot, urdf: " + kBiped + "}\n");
+  const Model<double> fixed = dynamics::readUrdfFile(kBiped).build(BaseType::Fixed);
+  expectSameDynamics(fixed, welded.model, 5);
+  EXPECT_EQ(welded.model.nv(), fixed.nv());
+}
+
+// The parts' coordinates in `initial:` and `input:`, and contacts on their links (the skateboard).
+TEST_F(ModelSection, TheSceneKeysNameThePartsCoordinatesAndLinks) {
+  const Scene s = loadScene("skateboard", {{"front_lift", 1.0}});
+  EXPECT_DOUBLE_EQ(s.q0[s.model.coordinateIndex("board_z")], 0.0775);
+  EXPECT_DOUBLE_EQ(s.q0[s.model.coordinateIndex("back_x")], -0.27);
+  EXPECT_DOUBLE_EQ(s.tau[s.model.coordinateIndex("front_z")], 36.5 * 9.81);
+  const int board = s.model.frames[s.model.frameIndex("board")].body;
+  ASSERT_EQ(s.contacts.size(), 5u);
+  EXPECT_EQ(s.contacts[0].body, board);  // rear_wheel, on the board's default link
+  EXPECT_EQ(s.contacts[3].plane.body, board);  // back_foot on the deck
+  EXPECT_EQ(s.contacts[3].body, s.model.frames[s.model.frameIndex("back")].body);
+}
+
 TEST_F(ModelSection, BadPartsAreRefusedWithTheLineAndKey) {
   const std::string board = "    - {name: board, base: planar, rigid_body: {mass: 1, inertia: [0.1, 0.1, 0.1]}}\n";
   struct Case {
@@ -174,7 +202,16 @@ TEST_F(ModelSection, BadPartsAreRefusedWithTheLineAndKey) {
       {"model:\n  parts:\n" + board + board, "model.parts[1].name: part 'board' is named twice"},
       {"model:\n  parts:\n    - {name: a, base: planar, urdf: " + kBiped + "}\n    - {name: b, base: planar, urdf: " +
            kBiped + "}\n",
-       "model.parts[1]: link 'arm_l' of part 'b' is also in an earlier part"},
+       "model.parts[1].urdf: link 'arm_l' of part 'b' is already in the model"},
+      // A point mass's coordinate against a part's base coordinate, either way round.
+      {"model:\n  parts:\n" + board + "    - point_mass: {link: m, mass: 1, axes: {board_x: [1, 0, 0]}}\n",
+       "model.parts[1].point_mass.axes.board_x: coordinate 'board_x' is used twice"},
+      {"model:\n  parts:\n    - point_mass: {link: m, mass: 1, axes: {board_x: [1, 0, 0]}}\n" + board,
+       "model.parts[1].rigid_body: joint 'board_x' of part 'board' is already in the model"},
+      {"model:\n  parts:\n    - {name: world, base: planar, rigid_body: {mass: 1, inertia: [0.1, 0.1, 0.1]}}\n",
+       "model.parts[0].rigid_body.link: 'world' is the name of the fixed frame"},
+      {"model:\n  parts:\n    - {name: m, point_mass: {mass: 1, axes: {z: [0, 0, 1]}}}\n",
+       "model.parts[0].name: a point mass is named by its link"},
       {"model:\n  parts:\n    - {name: board, base: planar, urdf: x.urdf, rigid_body: {mass: 1, inertia: [1, 1, 1]}}\n",
        "model.parts[0]: expected exactly one of: urdf, point_mass, rigid_body"},
       {"model:\n  parts:\n    - {name: m, base: planar, point_mass: {mass: 1, axes: {z: [0, 0, 1]}}}\n",
