@@ -15,7 +15,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
   const auto& model_d = models->modelWithoutGravity<Dual>();
   auto& data_d = models->data<Dual>();
   bool any_point = false;
-  for (const ContactPair& c : *contacts) any_point = any_point || !c.isStop();
+  for (const ContactPair& c : *contacts) any_point = any_point || (!c.isStop() && !c.freePoint());
   // First-order passes with q seeded, a chunk of coordinates at a time.
   VecD q(n), zero = VecD::Zero(n), l(n);
   for (int i = 0; i < n; ++i) {
@@ -38,8 +38,8 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
     dynamics::forwardVelocities(model_d, data_d, ConstMap<Dual>(q.data(), n), ConstMap<Dual>(l.data(), n));
     int k = first_reaction;
     for (const ContactPair& c : *contacts) {
-      if (c.isStop()) {  // tau_i −= sign·r_n: no q
-        k += 1 + c.k();
+      if (c.isStop() || c.freePoint()) {  // a stop: tau_i −= sign·r_n, no q; a free point: by the sweeps
+        k += 1 + c.k() + c.freeAxes();
         continue;
       }
       const Vec3<Dual> w = contact::relativeVelocity(c, data_d);
@@ -110,6 +110,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
 template class AdFunction<EquationOfMotion>;
 template class AdFunction<GapDefinition>;
 template class AdFunction<PlaneCoordinate>;
+template class AdFunction<FreePointOffset>;
 template class AdFunction<RestitutionBalance>;
 template class AdFunction<SlipSlack>;
 template class AdFunction<Integration>;

@@ -49,9 +49,11 @@ Vec3<S> contactForce(const ContactPair& pair, const dynamics::Data<S>& data, Fri
 // Equations of motion at a point, with the reactions of the contacts:
 //   with_dynamics:  M(q) q̈ + C(q, q̇) q̇ + g(q) − τ_0 − B u − Σ_c J_cᵀ f_c = 0   (paper §II.C)
 //   impulsive:      M(q) Δq̇ − Σ_c J_cᵀ p_c = 0                            (paper eq. 6)
-// where f_c = n r_n − μ r_n Σ_i d_i α_i (Activation) or n r_n + Σ_i d_i β_i (Direct).
+// where f_c = n r_n − μ r_n Σ_i d_i α_i (Activation) or n r_n + Σ_i d_i β_i (Direct). A free
+// contact point (ContactPair::free_axes) has J_c = J_A(x_A) − J_B(p + Σ t_i s_i): the reaction on
+// B acts at the plane's point at the plane coordinates s, which are inputs.
 // Inputs: q (n), then with_dynamics: q̇ (n); q̈ or Δq̇ (n); u (one per input coordinate); then per
-// contact: r_n and its k tangential variables.
+// contact: r_n, its k tangential variables and, for a free point, its plane coordinates s.
 struct EquationOfMotion {
   const ModelSet* models;
   const std::vector<ContactPair>* contacts;
@@ -64,7 +66,7 @@ struct EquationOfMotion {
   int inputs_count() const { return with_dynamics ? static_cast<int>(actuated.size()) : 0; }
   int inputs() const {
     int k = (with_dynamics ? 3 : 2) * nv() + inputs_count();
-    for (const ContactPair& c : *contacts) k += 1 + c.k();
+    for (const ContactPair& c : *contacts) k += 1 + c.k() + c.freeAxes();
     return k;
   }
   int outputs() const { return nv(); }
@@ -74,11 +76,11 @@ struct EquationOfMotion {
     const int n = nv();
     if (i < n) return true;                      // q
     if (with_dynamics && i < 2 * n) return true;  // q̇
-    if (friction != FrictionForm::Activation) return false;
     int k = (with_dynamics ? 3 : 2) * n + inputs_count();
     for (const ContactPair& c : *contacts) {
-      if (i == k) return c.k() > 0;  // r_n
-      k += 1 + c.k();
+      if (i == k) return friction == FrictionForm::Activation && c.k() > 0;  // r_n
+      if (i >= k + 1 + c.k() && i < k + 1 + c.k() + c.freeAxes()) return true;  // s (times the reaction)
+      k += 1 + c.k() + c.freeAxes();
     }
     return false;
   }
@@ -92,7 +94,18 @@ struct EquationOfMotion {
   //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
   //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
   // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α.
-  bool pairByAd(int i, int j) const { return j < nv() && i < (with_dynamics ? 2 : 1) * nv(); }  // i ≥ j
+  // A free point's pairs, (q, r), (r_n, α) and those with its s, are left to the sweeps.
+  bool pairByAd(int i, int j) const {  // i ≥ j
+    const int n = nv();
+    if (j < n && i < (with_dynamics ? 2 : 1) * n) return true;
+    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
+    for (const ContactPair& c : *contacts) {
+      const int end = k + 1 + c.k() + c.freeAxes();
+      if (c.freePoint() && i >= k && i < end) return j < n || j >= k;  // with q, or within its own inputs
+      k = end;
+    }
+    return false;
+  }
   void addHessian(const double* x, const double* lambda, double* H) const;
 
   template <class S>
@@ -121,8 +134,11 @@ struct EquationOfMotion {
     for (const ContactPair& c : *contacts) {
       const S& rn = r[0];
       const Vec3<S> f_t = contactForce(c, data, friction, rn, r + 1, true);
-      contact::addReaction(model, data, c, S(-rn), Vec3<S>(-f_t), y);
-      r += 1 + c.k();
+      if (c.freePoint())
+        contact::addReactionAt(model, data, c, S(-rn), Vec3<S>(-f_t), r + 1 + c.k(), y);
+      else
+        contact::addReaction(model, data, c, S(-rn), Vec3<S>(-f_t), y);
+      r += 1 + c.k() + c.freeAxes();
     }
     for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
     if (with_dynamics)
@@ -173,6 +189,32 @@ struct PlaneCoordinate {
   }
 };
 
+// A free contact point's offset (ContactPair::free_axes): for each free axis i,
+//   s_A,i(q) − s_i − d⁺_i + d⁻_i = 0,   d⁺_i, d⁻_i ≥ 0
+// where s_A = planeCoordinates(q) is A's point projected onto B's plane and s the contact point's
+// plane coordinates (bounded by the extent). The transcription makes r_n ⊥ Σ_i (d⁺_i + d⁻_i) and
+// d⁺_i ⊥ d⁻_i: while the contact carries a reaction the contact point is A's projection, so A
+// is over the rectangle; while it carries none A may be anywhere. Inputs: q (n), s, d⁺, d⁻ (m each).
+struct FreePointOffset {
+  const ModelSet* models;
+  const ContactPair* contact;
+  int m() const { return contact->freeAxes(); }
+  int inputs() const { return models->model<double>().nv() + 3 * m(); }
+  int outputs() const { return m(); }
+  // q, of the coordinates the contact moves with; s, d⁺, d⁻ enter with coefficients ±1.
+  bool nonlinear(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
+  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }
+  template <class S>
+  void operator()(const S* x, S* y) const {
+    const int n = models->model<double>().nv();
+    auto& data = models->data<S>();
+    dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n));
+    const Eigen::Matrix<S, 2, 1> s_A = contact::planeCoordinates(*contact, data);
+    const S* s = x + n;
+    for (int i = 0; i < m(); ++i) y[i] = s_A[contact->free_axes[i]] - s[i] - s[m() + i] + s[2 * m() + i];
+  }
+};
+
 // Restitution at an element boundary, paper eq. (9a):
 //   a⁺ − a⁻ − ẏ[n, 0] − e ẏ[n−1, P+1] = 0   (ẏ[n, 0] after the jump, ẏ[n−1, P+1] before it)
 // Inputs: q, q̇ after (2n), q, q̇ before (2n), a⁺, a⁻; without the state before when e = 0
@@ -219,19 +261,26 @@ struct RestitutionBalance {
 //   Activation (paper eq. 12): ψ_i = γ − d_iᵀ v_t ≥ 0,   α_i ⊥ ψ_i
 //   Direct (Posa et al.):      ψ_i = γ + d_iᵀ v_t ≥ 0,   β_i ⊥ ψ_i
 // as equalities ψ_i − γ ± d_iᵀ v_t = 0, v_t the contact's relative velocity (contact layer; for a
-// world plane less the surface's velocity at this element). Inputs: q, q̇ (2n), γ, ψ_1 … ψ_k.
+// world plane less the surface's velocity at this element; for a free point with B's material
+// point at the plane coordinates s). Inputs: q, q̇ (2n), s (free point: m), γ, ψ_1 … ψ_k.
 struct SlipSlack {
   const ModelSet* models;
   const ContactPair* contact;
   Eigen::Vector3d surface_velocity = Eigen::Vector3d::Zero();
   FrictionForm friction = FrictionForm::Activation;
-  int inputs() const { return 2 * models->model<double>().nv() + 1 + contact->k(); }
+  int inputs() const { return 2 * models->model<double>().nv() + contact->freeAxes() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
-  // q (v_t = J(q) q̇ − v_surface), of the coordinates the contact moves with: F has no others.
-  bool nonlinear(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
-  // γ and ψ enter with constant coefficients: the pairs within (q, q̇) the contact moves with.
+  // q (v_t = J(q) q̇ − v_surface), of the coordinates the contact moves with: F has no others;
+  // a free point's s (B's velocity at p + Σ t_i s_i, times q̇ and the directions of q).
+  bool nonlinear(int i) const {
+    const int n = models->model<double>().nv();
+    return (i < n && contact->moves_with[i]) || (i >= 2 * n && i < 2 * n + contact->freeAxes());
+  }
+  // γ and ψ enter with constant coefficients: the pairs within (q, q̇) the contact moves with, and
+  // s with those (it enters affinely: no (s, s) pairs).
   bool pairByAd(int i, int j) const {
     const int n = models->model<double>().nv();
+    if (i >= 2 * n && i < 2 * n + contact->freeAxes()) return j < 2 * n && contact->moves_with[j % n];
     return j < n && i < 2 * n && contact->moves_with[i % n] && contact->moves_with[j];
   }
   template <class S>
@@ -239,11 +288,13 @@ struct SlipSlack {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
     dynamics::forwardVelocities(models->model<S>(), data, ConstMap<S>(x, n), ConstMap<S>(x + n, n));
-    const Vec3<S> slip = contact::relativeVelocity(*contact, data, Vec3<S>(surface_velocity.cast<S>()));
-    const S& gamma = x[2 * n];
+    const int m = contact->freeAxes();
+    const Vec3<S> slip = m > 0 ? contact::relativeVelocityAt(*contact, data, x + 2 * n)
+                               : contact::relativeVelocity(*contact, data, Vec3<S>(surface_velocity.cast<S>()));
+    const S& gamma = x[2 * n + m];
     const S sign(friction == FrictionForm::Activation ? 1.0 : -1.0);
     for (int i = 0; i < contact->k(); ++i)
-      y[i] = x[2 * n + 1 + i] - gamma + sign * contact::frictionDirection(*contact, data, i).dot(slip);
+      y[i] = x[2 * n + m + 1 + i] - gamma + sign * contact::frictionDirection(*contact, data, i).dot(slip);
   }
 };
 
@@ -289,6 +340,7 @@ struct Effort {
 extern template class AdFunction<EquationOfMotion>;
 extern template class AdFunction<GapDefinition>;
 extern template class AdFunction<PlaneCoordinate>;
+extern template class AdFunction<FreePointOffset>;
 extern template class AdFunction<RestitutionBalance>;
 extern template class AdFunction<SlipSlack>;
 extern template class AdFunction<Integration>;

@@ -54,7 +54,8 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
         const bool impulse = impulsive && p == 0;
         if (!cp.isStop()) {
           const Eigen::Matrix<double, 3, 2> T = contact::planeFrame(cp, data).tangents;
-          cs.vt = T.transpose() * contact::relativeVelocity(cp, data, t.surfaceVelocity(cp.surface, element));
+          cs.vt = T.transpose() * (C.s[p] >= 0 ? contact::relativeVelocityAt(cp, data, x.data() + C.s[p])
+                                                : contact::relativeVelocity(cp, data, t.surfaceVelocity(cp.surface, element)));
           if (C.rn[p] >= 0) {
             const double rn = x[C.rn[p]];
             const double* tangential = cp.k() > 0 ? x.data() + C.tangential[p] : nullptr;
@@ -138,7 +139,11 @@ double meanLocalError(const Transcription& t, const Eigen::VectorXd& x) {
           const double* tangential = cp.k() > 0 ? x.data() + C.tangential[p] : nullptr;
           const Eigen::Vector3d f_t = cp.isStop() ? Eigen::Vector3d::Zero().eval()
                                                   : contactForce(cp, data, t.frictionForm(), rn, tangential, true);
-          contact::addReaction(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), tau.data());
+          if (C.s[p] >= 0)  // a free point: on B at its plane coordinates
+            contact::addReactionAt(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), x.data() + C.s[p],
+                                   tau.data());
+          else
+            contact::addReaction(model, data, cp, ls[j] * rn, Eigen::Vector3d(ls[j] * f_t), tau.data());
         }
       }
       const Eigen::VectorXd& qdd = dynamics::aba(model, data, state.q, state.v, tau);

@@ -153,6 +153,9 @@ void Transcription::buildVariables() {
       C.gamma.assign(npts, -1);
       C.psi.assign(npts, -1);
       C.slip_block.assign(npts, -1);
+      C.s.assign(npts, -1);
+      C.d_plus.assign(npts, -1);
+      C.d_minus.assign(npts, -1);
       for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
       std::vector<int> force_points = L.collocation;
       if (jump) force_points.insert(force_points.begin(), 0);
@@ -161,6 +164,17 @@ void Transcription::buildVariables() {
         if (cp.k() > 0) {
           C.tangential[p] = addVariables(cp.k(), 0, first_order ? kInf : 1.0, (first_order ? "beta." : "alpha.") + tag + at(n, p));
           C.gamma[p] = addVariables(1, 0, kInf, "gamma." + tag + at(n, p));
+        }
+        if (cp.freePoint()) {
+          const int m = cp.freeAxes();
+          for (int i = 0; i < m; ++i) {
+            const int axis = cp.free_axes[i];
+            const int v = addVariables(1, -cp.extent[axis], cp.extent[axis],
+                                       "s." + tag + at(n, p) + (m == 1 ? "" : "." + std::to_string(i)));
+            if (i == 0) C.s[p] = v;
+          }
+          C.d_plus[p] = addVariables(m, 0, kInf, "d+." + tag + at(n, p));
+          C.d_minus[p] = addVariables(m, 0, kInf, "d-." + tag + at(n, p));
         }
       }
       if (jump) {
@@ -235,6 +249,7 @@ void Transcription::buildElementConstraints(int n) {
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
       vars.push_back(L.contacts[c].rn[p]);
       for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].tangential[p] + i);
+      for (int i = 0; i < contacts_[c].freeAxes(); ++i) vars.push_back(L.contacts[c].s[p] + i);
     }
     addBlock(f, vars, 0, 0,
              (with_dynamics ? "eom" : "impulse") + at(n, p));
@@ -260,9 +275,11 @@ void Transcription::buildContactConstraints(int n) {
   // |s_i| ≤ extent_i at every point of the mesh (point 0 of a later element is the previous
   // end), so that the gap of the unbounded plane is its gap. A motion that leaves the rectangle
   // (off the end of a deck) is outside what the transcription represents: its solve is infeasible.
+  // A free contact point instead keeps its contact point s over the rectangle (its bounds) and A
+  // at s while the contact carries a reaction.
   for (int c = 0; c < nc; ++c) {
     const ContactPair& cp = contacts_[c];
-    if (!contact::hasExtent(cp)) continue;
+    if (!contact::hasExtent(cp) || cp.freePoint()) continue;
     for (int axis = 0; axis < 2; ++axis) {
       if (!std::isfinite(cp.extent[axis])) continue;
       const auto s = std::make_shared<AdFunction<PlaneCoordinate>>(PlaneCoordinate{models_.get(), &cp, axis});
@@ -313,6 +330,25 @@ void Transcription::buildContactConstraints(int n) {
       addProduct({C.a_plus}, Eigen::VectorXd::Ones(1), 0, {C.a_minus}, Eigen::VectorXd::Ones(1), 0,
                  "split." + tag + at(n, 0));
     }
+    // A free point: s_A(q) − s = d⁺ − d⁻, r_n ⊥ Σ (d⁺ + d⁻), d⁺ ⊥ d⁻ where there is a reaction.
+    if (cp.freePoint()) {
+      const int m = cp.freeAxes();
+      const auto offset = std::make_shared<AdFunction<FreePointOffset>>(FreePointOffset{models_.get(), &contacts_[c]});
+      for (int p = 0; p < npts; ++p) {
+        if (C.s[p] < 0) continue;
+        std::vector<int> vars = range(L.points[p].q, nv_);
+        for (int first : {C.s[p], C.d_plus[p], C.d_minus[p]})
+          for (int i = 0; i < m; ++i) vars.push_back(first + i);
+        addBlock(offset, vars, 0, 0, "offset." + tag + at(n, p));
+        std::vector<int> d = range(C.d_plus[p], m);
+        for (int i = 0; i < m; ++i) d.push_back(C.d_minus[p] + i);
+        addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, d, Eigen::VectorXd::Ones(2 * m), 0,
+                   "on_point." + tag + at(n, p));
+        for (int i = 0; i < m; ++i)
+          addProduct({C.d_plus[p] + i}, Eigen::VectorXd::Ones(1), 0, {C.d_minus[p] + i}, Eigen::VectorXd::Ones(1), 0,
+                     "offset_split." + tag + at(n, p) + (m == 1 ? "" : "." + std::to_string(i)));
+      }
+    }
     // (10), or Posa's φ(q[k+1]) ⊥ λ_n.
     for (int p : L.collocation) {
       if (first_order) {
@@ -337,6 +373,7 @@ void Transcription::buildContactConstraints(int n) {
                   frictionForm()};
       std::vector<int> vars = range(L.points[p].q, nv_);
       for (int v : range(L.points[p].v, nv_)) vars.push_back(v);
+      for (int i = 0; i < cp.freeAxes(); ++i) vars.push_back(C.s[p] + i);
       vars.push_back(C.gamma[p]);
       for (int i = 0; i < cp.k(); ++i) vars.push_back(psi + i);
       C.psi[p] = psi;
@@ -496,8 +533,21 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
   for (const auto& L : layout_)
     for (std::size_t p = 0; p < L.points.size(); ++p) {
       dynamics::forwardKinematics(models_->model<double>(), data, x.segment(L.points[p].q, nv_));
-      for (std::size_t c = 0; c < contacts_.size(); ++c)
-        x[L.contacts[c].y[p]] = std::max(0.0, contact::gap(contacts_[c], data, x.data() + L.points[p].q));
+      for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const ContactPair& cp = contacts_[c];
+        const auto& C = L.contacts[c];
+        x[C.y[p]] = std::max(0.0, contact::gap(cp, data, x.data() + L.points[p].q));
+        // A free point at A's projection, clamped to the rectangle; d± the rest (FreePointOffset).
+        if (C.s[p] < 0) continue;
+        const Eigen::Vector2d s_A = contact::planeCoordinates(cp, data);
+        for (int i = 0; i < cp.freeAxes(); ++i) {
+          const int axis = cp.free_axes[i];
+          const double s = std::clamp(s_A[axis], -cp.extent[axis], cp.extent[axis]);
+          x[C.s[p] + i] = s;
+          x[C.d_plus[p] + i] = std::max(0.0, s_A[axis] - s);
+          x[C.d_minus[p] + i] = std::max(0.0, s - s_A[axis]);
+        }
+      }
     }
   x = x.cwiseMax(x_lower_hint_).cwiseMin(x_upper_hint_);
   // a⁺ − a⁻ = ẏ[n, 0] + e ẏ[n − 1, P + 1] (9a) with a⁺ a⁻ = 0: the balance is linear in the pair.

@@ -15,6 +15,10 @@
 //   (11–13)   r_t = μ r_n Σ d_i α_i;  α_i ⊥ γ − d_iᵀ v_t;  Σ_p γ[n,p] ⊥ 1 − Σ_i α_i[n,p]
 //             at the points that carry reactions (the collocation points, and [n,0] for n ≥ 1;
 //             the sum in (13) runs over those points)
+//   free point  a contact whose point on B's plane is free (ContactPair::free_axes): at the
+//             points with reactions, plane coordinates s within the extent, s_A(q) − s = d⁺ − d⁻
+//             (FreePointOffset), r_n ⊥ Σ (d⁺ + d⁻) and d⁺ ⊥ d⁻; the reaction acts on B at s.
+//             Other contacts on a body's plane keep the point over the rectangle at every point.
 // continuous (LG-P C): the same without Δq̇, the impulse and (9); contact through (10) only.
 // first-order (Posa, Cantu & Tedrake 2014): K = steps_per_element · N backward-Euler steps,
 //   q[k+1] = q[k] + h q̇[k+1], q̇[k+1] = q̇[k] + h q̈[k+1], EOM at k+1 with λ_n, β_i ≥ 0;
@@ -71,6 +75,9 @@ struct ElementLayout {
     std::vector<int> gamma;  // slip-speed bound γ, per point
     std::vector<int> psi;         // first slip slack ψ (12), per point, −1 where none
     std::vector<int> slip_block;  // the block defining ψ, in blocks(), per point
+    // A free contact point (ContactPair::free_axes), per point with a reaction, −1 elsewhere: the
+    // first of its plane coordinates s and of the offsets d⁺, d⁻ (FreePointOffset).
+    std::vector<int> s, d_plus, d_minus;
     int a_plus = -1, a_minus = -1;  // (9)
     int restitution_block = -1;     // (9a), in blocks()
   };

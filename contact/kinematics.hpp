@@ -86,6 +86,22 @@ Eigen::Matrix<S, 2, 1> planeCoordinates(const ContactPair& pair, const dynamics:
   return pair.tangents_B.cast<S>().transpose() * (pointOnB(pair, data) - pair.plane_point_B.cast<S>());
 }
 
+// A free contact point (ContactPair::free_axes): the point of B's plane at plane coordinates s,
+// s[i] along the tangent free_axes[i] (0 along the others), in B's coordinates, p + Σ_i t_i s[i]:
+// planeCoordinates' inverse on the free axes. The optimiser's contact point on B.
+template <class S>
+Vec3<S> planePointInB(const ContactPair& pair, const S* s) {
+  Vec3<S> x = pair.plane_point_B.cast<S>();
+  for (int i = 0; i < pair.freeAxes(); ++i) x += pair.tangents_B.col(pair.free_axes[i]).cast<S>() * s[i];
+  return x;
+}
+
+// The same in world coordinates.
+template <class S>
+Vec3<S> planePoint(const ContactPair& pair, const dynamics::Data<S>& data, const S* s) {
+  return dynamics::pointPosition(data, pair.body_b, planePointInB(pair, s));
+}
+
 // Whether the pair's plane is bounded (a plane fixed in a body, with its extent).
 inline bool hasExtent(const ContactPair& pair) { return !pair.isStop() && pair.body_b >= 0; }
 
@@ -105,6 +121,14 @@ Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data)
   if (pair.body_b < 0) return dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>()));
   return dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>())) -
          dynamics::pointVelocity(data, pair.body_b, pointOnB(pair, data));
+}
+
+// The relative velocity of a free contact point: v_A(x) − v_B(p + Σ t_i s_i), B's material point
+// at plane coordinates s (planePointInB) rather than at A's point.
+template <class S>
+Vec3<S> relativeVelocityAt(const ContactPair& pair, const dynamics::Data<S>& data, const S* s) {
+  return dynamics::pointVelocity(data, pair.body_a, Vec3<S>(pair.point_A.cast<S>())) -
+         dynamics::pointVelocity(data, pair.body_b, planePointInB(pair, s));
 }
 
 // The same less a world plane's material velocity (a belt's; tangent to the plane): the slip.
@@ -151,15 +175,15 @@ Eigen::Matrix<S, 3, Eigen::Dynamic> frictionDirections(const ContactPair& pair, 
   return d;
 }
 
-// Calls fn(k, c) with the column c of the relative Jacobian J_A(x) − J_B(x) (world coordinates)
-// for every coordinate k on the bodies' paths to the root, as dynamics::pointJacobian builds its
-// columns: +(s_k × x) on A's path, −(s_k × x) on B's, so a common ancestor's two calls cancel.
+// Calls fn(k, c) with the column c of the relative Jacobian J_A(x_A) − J_B(x_B) (world
+// coordinates) for every coordinate k on the bodies' paths to the root, as dynamics::pointJacobian
+// builds its columns: +(s_k × x_A) on A's path, −(s_k × x_B) on B's, so that a common ancestor's
+// two calls cancel when x_A = x_B.
 template <class S, class F>
 SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
-                                         const ContactPair& pair, F&& fn) {
-  const Vec3<S> x = contactPoint(pair, data);
+                                         const ContactPair& pair, const Vec3<S>& x_A, const Vec3<S>& x_B, F&& fn) {
   // (a negation, not a product: cheap for AD scalars)
-  auto path = [&](int body, bool negate) SALTUS_LAMBDA_INLINE {
+  auto path = [&](int body, bool negate, const Vec3<S>& x) SALTUS_LAMBDA_INLINE {
     for (int j = body; j >= 0; j = model.parent[j])
       for (int k = model.first_coordinate[j]; k < model.first_coordinate[j] + model.num_coordinates[j]; ++k) {
         const dynamics::Motion<S> s = data.X_world[j].applyInverse(data.S_joint[k]);
@@ -169,8 +193,16 @@ SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const 
           fn(k, Vec3<S>(s.v + s.w.cross(x)));
       }
   };
-  path(pair.body_a, false);
-  path(pair.body_b, true);
+  path(pair.body_a, false, x_A);
+  path(pair.body_b, true, x_B);
+}
+
+// The pair's relative Jacobian at its contact point x (A's point): J_A(x) − J_B(x).
+template <class S, class F>
+SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
+                                         const ContactPair& pair, F&& fn) {
+  const Vec3<S> x = contactPoint(pair, data);
+  forEachJacobianColumn(model, data, pair, x, x, std::forward<F>(fn));
 }
 
 // The relative Jacobian J_A(x) − J_B(x) (3 × nv, world coordinates): J q̇ is the relative velocity
@@ -208,6 +240,16 @@ void addReaction(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
   }
   const Vec3<S> f = planeNormal(pair, data) * r_n + f_t;
   forEachJacobianColumn(model, data, pair, [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { tau[k] += c.dot(f); });
+}
+
+// The same for a free contact point (ContactPair::free_axes) at plane coordinates s: the force
+// acts on A at A's point and its opposite on B at planePoint(s), tau += J_A(x_A)ᵀ f − J_B(x_B)ᵀ f.
+template <class S>
+void addReactionAt(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
+                   const S& r_n, const Vec3<S>& f_t, const S* s, S* tau) {
+  const Vec3<S> f = planeNormal(pair, data) * r_n + f_t;
+  forEachJacobianColumn(model, data, pair, contactPoint(pair, data), planePoint(pair, data, s),
+                        [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { tau[k] += c.dot(f); });
 }
 
 }  // namespace saltus::contact

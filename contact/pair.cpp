@@ -33,6 +33,7 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
       p.normal_B = c.plane.normal;
       p.tangents_B = c.plane.tangents;
       p.extent = c.plane.extent;
+      p.free_axes = c.free_axes;
       p.surface = -1;
     }
     p.directions_B = c.friction > 0 ? scene::coneDirections(p.tangents_B, c.directions) : Eigen::Matrix3Xd(3, 0);

@@ -39,6 +39,10 @@ struct ContactPair {
   // point beyond it touches nothing); infinite for a world surface.
   Eigen::Vector2d extent = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   int surface = -1;  // the scene surface the plane is (its velocity schedule), −1: none
+  // The tangent axes (0: t1, 1: t2) along which the optimiser's contact point on B's plane is a
+  // variable s (scene::Contact::free_axes); empty: the contact point is A's point. The
+  // time-stepper's contact point is always A's point, over the rectangle or touching nothing.
+  std::vector<int> free_axes;
 
   // JointStop.
   int coordinate = -1;  // velocity coordinate (v, Jacobian columns)
@@ -56,6 +60,8 @@ struct ContactPair {
   std::vector<bool> moves_with;
 
   bool isStop() const { return kind == PairKind::JointStop; }
+  bool freePoint() const { return !free_axes.empty(); }
+  int freeAxes() const { return static_cast<int>(free_axes.size()); }
   int k() const { return static_cast<int>(directions_B.cols()); }  // friction directions
 };
 

@@ -240,7 +240,7 @@ std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& s
   for (std::size_t i = 0; i < node.size(); ++i) {
     const YAML::Node c = node[i];
     const std::string p = indexPath("contacts", i);
-    r_.checkMap(c, p, {"name", "link", "point", "surface", "plane", "restitution", "friction", "directions"});
+    r_.checkMap(c, p, {"name", "link", "point", "surface", "plane", "free_point", "restitution", "friction", "directions"});
     Contact ct;
     const YAML::Node link = r_.required(c, p, "link");
     ct.link = r_.text(link, keyPath(p, "link"));
@@ -279,6 +279,14 @@ std::vector<Contact> Loader::readContacts(const YAML::Node& node, const Scene& s
       if (ct.plane.body == ct.body)
         r_.fail(c["plane"], keyPath(p, "plane"), "the plane is on the same body as the point (link '" +
                                                     ct.plane.link + "'): a body cannot touch itself");
+    }
+    if (c["free_point"].IsDefined() && r_.boolean(c["free_point"], keyPath(p, "free_point"))) {
+      if (ct.surface >= 0)
+        r_.fail(c["free_point"], keyPath(p, "free_point"),
+                "a contact point free along its plane needs a plane on a body ('plane'): on a world surface, "
+                "which is unbounded, the contact point is wherever the point is");
+      for (int axis = 0; axis < 2; ++axis)  // t2 is the normal to the plane of motion: no motion along it
+        if (!(planar && std::abs(ct.plane.tangents(1, axis)) > 1 - 1e-9)) ct.free_axes.push_back(axis);
     }
     ct.restitution = r_.number(c, p, "restitution", 0.0);
     if (!(ct.restitution >= 0 && ct.restitution <= 1))

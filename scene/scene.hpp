@@ -106,6 +106,12 @@ struct Contact {
   double restitution = 0;
   double friction = 0;
   int directions = 0;  // k: 0 frictionless, 2 planar, ≥ 4 spatial
+  // On a body's plane with `free_point: true`: the plane's tangent axes (0: t1, 1: t2) along which
+  // the optimiser's contact point on the plane is a variable, bounded by the extent, that the
+  // point of A is complementary to while it carries a reaction (so A may leave the rectangle when
+  // it does not): both axes, or t1 alone in a planar model where t2 is the normal to the plane
+  // of motion. Empty: the contact point is A's point, kept over the rectangle at every mesh point.
+  std::vector<int> free_axes;
 };
 
 // A joint-limit hard stop: a frictionless unilateral contact on coordinate `coordinate`,

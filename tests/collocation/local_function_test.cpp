@@ -124,7 +124,8 @@ void checkDeclaredLinearity(const Problem& p, Method method, int expected_kinds)
     for (int r = 0; r < lambda.size(); ++r) lambda[r] = U(rng);
     compareIfIs<EquationOfMotion>(f, x, lambda, seen, "eom") || compareIfIs<GapDefinition>(f, x, lambda, seen, "gap") ||
         compareIfIs<RestitutionBalance>(f, x, lambda, seen, "restitution") ||
-        compareIfIs<SlipSlack>(f, x, lambda, seen, "slip") || compareIfIs<Integration>(f, x, lambda, seen, "integration");
+        compareIfIs<SlipSlack>(f, x, lambda, seen, "slip") || compareIfIs<Integration>(f, x, lambda, seen, "integration") ||
+        compareIfIs<FreePointOffset>(f, x, lambda, seen, "offset");
   }
   EXPECT_EQ(static_cast<int>(seen.size()), expected_kinds) << toString(method);
 }
@@ -144,6 +145,15 @@ TEST(AdFunction, DeclaredLinearInputsConveyor) {
 }
 TEST(AdFunction, DeclaredLinearInputsPointMass) {
   checkDeclaredLinearity(testing::pointMassDrop(0.5, 0.1, 2, 2), Method::Impulsive, 4);  // eom, gap, restitution, integration
+}
+
+// A free contact point: its s in the equations of motion (the pairs the EOM leaves to the sweeps
+// instead of writing them) and the slip, and the offset rows.
+TEST(AdFunction, DeclaredLinearInputsFreePoint) {
+  for (const std::vector<int>& axes : {std::vector<int>{0}, std::vector<int>{0, 1}}) {
+    checkDeclaredLinearity(testing::ballOnPaddleFreePoint(0.4, 0.5, axes, 2, 2), Method::Impulsive, 6);
+    checkDeclaredLinearity(testing::ballOnPaddleFreePoint(0.0, 0.5, axes, 2, 2), Method::FirstOrder, 5);
+  }
 }
 
 // The legged problems: the blocks skip the coordinates a contact does not move with (the biped's

@@ -123,6 +123,20 @@ TEST(NlpDerivatives, BallOnPaddleFirstOrder) {
   checkDerivatives(testing::ballOnPaddleProblem(0.0, 0.5, 1, 3), Method::FirstOrder);
 }
 
+// The same with the contact point free along the paddle: its plane coordinates s enter the
+// equations of motion (the reaction on the paddle at s), the impulse (6), the slip and the offset
+// rows with d±, on t1 alone and on both axes.
+TEST(NlpDerivatives, BallOnPaddleFreePointImpulsive) {
+  checkDerivatives(testing::ballOnPaddleFreePoint(0.4, 0.5, {0}), Method::Impulsive);
+  checkDerivatives(testing::ballOnPaddleFreePoint(0.4, 0.5, {0, 1}, 2, 2), Method::Impulsive);
+}
+TEST(NlpDerivatives, BallOnPaddleFreePointContinuous) {
+  checkDerivatives(testing::ballOnPaddleFreePoint(0.0, 0.5, {0}), Method::Continuous);
+}
+TEST(NlpDerivatives, BallOnPaddleFreePointFirstOrder) {
+  checkDerivatives(testing::ballOnPaddleFreePoint(0.0, 0.5, {0}, 1, 3), Method::FirstOrder);
+}
+
 // The restitution balance (9a) in its reduced forms against the two-sided functor on the full
 // state at both sides of the boundary: a stop's is linear in four variables, a contact with e = 0
 // drops the state before the jump. The biped has both (feet e = 0, twelve stops), here with a

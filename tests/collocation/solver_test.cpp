@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "collocation/nlp.hpp"
 #include "collocation/problem_file.hpp"
 #include "collocation/seeding.hpp"
 #include "collocation/simulation_seed.hpp"
@@ -235,6 +237,66 @@ TEST(Solver, ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt) {
   const SolveReport stays = solve(on, makeSeeding(on).seed, SolveOptions{});
   ASSERT_TRUE(stays.feasible) << stays.stages.back().status;
   for (const Sample& r : trajectory(on, stays.x)) EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
+}
+
+// A contact point free along the deck (ContactPair::free_axes): block_on_cart's block (no force
+// on the cart) starts in the air beyond the deck's end (x 0.7 m, the deck ends at 0.5 m; a point
+// kept over the rectangle at every mesh point could not start there), 0.2 m up, moving back at
+// 2 m/s. It lands at t_l = sqrt(2 · 0.2 / g) at x = 0.7 − 2 t_l; its sliding impact's friction
+// impulse μ m g t_l slows it and pushes the cart back (the impulse's opposite), and it slides
+// (relative deceleration μ g (1 + m/M)) until both move at the momentum's −2 m / (M + m). The
+// contact point s follows the block along the deck from where it lands to where it stops.
+TEST(Solver, AFreeContactPointLandsFromBeyondTheDeckAndFollowsTheSlide) {
+  const double M = 4, m = 1, mu = 0.4, x0 = 0.7, z0 = 0.2, v0 = -2;
+  Problem p = blockOnCart(0.6, 3, 0.1, {{"force", 0}});
+  p.N = 12;
+  p.scene.contacts.at(0).free_axes = {0};
+  p.scene.q0 = Eigen::Vector3d(0, x0, z0);
+  p.scene.v0 = Eigen::Vector3d(0, v0, 0);
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  SolveOptions o;
+  o.restarts = seeding.restarts;
+  const SolveReport report = solve(t, seeding.seed, o);
+  ASSERT_TRUE(report.feasible) << report.stages.back().status << ", largest product " << report.largest_product;
+  const double t_land = std::sqrt(2 * z0 / g), x_land = x0 + v0 * t_land;
+  const double v_block = v0 + mu * g * t_land, v_cart = -mu * m * g * t_land / M;
+  const double slide = (v_block - v_cart) * (v_block - v_cart) / (2 * mu * g * (1 + m / M));
+  const double s_rest = x_land - slide, v_together = v0 * m / (M + m);
+  double s_first = NAN, s_last = NAN;
+  for (int n = 0; n < t.elements(); ++n) {
+    const ElementLayout& L = t.layout()[n];
+    const auto& C = L.contacts[0];
+    for (std::size_t k = 0; k < L.points.size(); ++k) {
+      if (C.s[k] < 0 || report.x[C.rn[k]] < 1e-6) continue;
+      // Loaded: the contact point is the block's place on the deck, to the relaxed
+      // complementarity r_n |s − s_A| ≤ tolerance (the vanishing impulses at [n, 0] at rest let
+      // it drift by about 1e-6 m); under the block's weight to 1e-6 m.
+      const double s = report.x[C.s[k]], rn = report.x[C.rn[k]];
+      const double along = report.x[L.points[k].q + 1] - report.x[L.points[k].q];
+      EXPECT_LE(rn * std::abs(s - along), p.complementarity_tolerance) << "element " << n + 1 << ", point " << k;
+      if (k > 0) EXPECT_NEAR(s, along, 1e-6) << "element " << n + 1 << ", point " << k;
+      if (std::isnan(s_first)) s_first = s;
+      s_last = s;
+    }
+  }
+  EXPECT_NEAR(s_first, x_land, 2e-3);
+  EXPECT_NEAR(s_last, s_rest, 2e-3);
+  const Sample end = trajectory(t, report.x).back();
+  EXPECT_NEAR(end.v[0], v_together, 1e-6);
+  EXPECT_NEAR(end.v[1], v_together, 1e-6);
+  EXPECT_NEAR(end.q[1] - end.q[0], s_rest, 2e-3);
+  // Without the free point the block is kept over the deck at every mesh point, [1, 0] too,
+  // where it starts 0.7 m along a deck that ends at 0.5 m: that row cannot hold.
+  Problem fixed = p;
+  fixed.scene.contacts.at(0).free_axes.clear();
+  const Transcription tf(fixed, Method::Impulsive);
+  const std::vector<std::string>& names = tf.constraintNames();
+  const auto row = std::find(names.begin(), names.end(), "extent.block_on_deck.1[1,0]") - names.begin();
+  ASSERT_LT(row, static_cast<std::ptrdiff_t>(names.size()));
+  Nlp nlp(tf, Stage::Task, tf.nullSeed());
+  EXPECT_NEAR(nlp.constraints(tf.nullSeed())[row], x0, 1e-12);
+  EXPECT_DOUBLE_EQ(tf.constraintUpper()[row], 0.5);
 }
 
 // SolveOptions::interrupted, asked at every Ipopt iteration: true stops the solve there, with no

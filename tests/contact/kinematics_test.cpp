@@ -143,6 +143,59 @@ TEST(ContactKinematics, BodyOnBodyRatesAgreeWithFiniteDifferences) {
   }
 }
 
+// A free contact point (ContactPair::free_axes): the plane's point at plane coordinates s is the
+// inverse of planeCoordinates, B's velocity there is its material point's (finite differences of
+// its position), the reaction acts on B there (virtual power with relativeVelocityAt), and at s =
+// A's projection with A on the plane the free point's reaction and velocity are the fixed point's.
+TEST(ContactKinematics, FreePointOnABodysPlane) {
+  TwoBodies s;
+  s.pair.free_axes = {0, 1};
+  Data<double> data(s.model), data2(s.model);
+  std::mt19937 rng(13);
+  const int nv = s.model.nv();
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd q = 0.3 * randomVector(nv, rng), v = randomVector(nv, rng);
+    const Eigen::Vector2d plane_s = 0.2 * randomVector(2, rng);
+    dynamics::forwardKinematics(s.model, data, q, v);
+    // planePoint(s) projects back to s and lies on the plane.
+    const Eigen::Vector3d x_B = planePoint(s.pair, data, plane_s.data());
+    const PlaneFrame<double> frame = planeFrame(s.pair, data);
+    EXPECT_NEAR(frame.normal.dot(x_B - frame.point), 0, 1e-14);
+    EXPECT_NEAR(frame.tangents.col(0).dot(x_B - frame.point), plane_s[0], 1e-14);
+    EXPECT_NEAR(frame.tangents.col(1).dot(x_B - frame.point), plane_s[1], 1e-14);
+    // B's material point at s moves with B: its velocity by finite differences along v.
+    const double h = 1e-6;
+    dynamics::forwardKinematics(s.model, data2, Eigen::VectorXd(q + h * v));
+    const Eigen::Vector3d xp = planePoint(s.pair, data2, plane_s.data());
+    dynamics::forwardKinematics(s.model, data2, Eigen::VectorXd(q - h * v));
+    const Eigen::Vector3d xm = planePoint(s.pair, data2, plane_s.data());
+    const Eigen::Vector3d v_A = dynamics::pointVelocity(data, s.pair.body_a, s.pair.point_A);
+    EXPECT_LT((relativeVelocityAt(s.pair, data, plane_s.data()) - (v_A - (xp - xm) / (2 * h))).norm(), 1e-8);
+    // Virtual power: the reaction on A at its point and on B at s.
+    const Eigen::Vector3d f_t = frictionDirections(s.pair, data).col(1) * -0.4;
+    Eigen::VectorXd tau = Eigen::VectorXd::Zero(nv);
+    addReactionAt(s.model, data, s.pair, 2.0, f_t, plane_s.data(), tau.data());
+    const Eigen::Vector3d f = frame.normal * 2.0 + f_t;
+    EXPECT_NEAR(tau.dot(v), f.dot(relativeVelocityAt(s.pair, data, plane_s.data())), 1e-12);
+    // A moved onto the plane (its coordinates in B unchanged by the base): at s = its projection
+    // the free point is the fixed one.
+    ContactPair on = s.pair;
+    const Eigen::Vector3d a_B = dynamics::bodyRotation(data, on.body_b).transpose() *
+                                (contactPoint(on, data) - dynamics::bodyPosition(data, on.body_b));
+    const Eigen::Vector3d a_on_plane = a_B - on.normal_B * on.normal_B.dot(a_B - on.plane_point_B);
+    // the point of A at that material position: A's coordinates of B's point
+    const Eigen::Vector3d world = dynamics::pointPosition(data, on.body_b, a_on_plane);
+    on.point_A = dynamics::bodyRotation(data, on.body_a).transpose() * (world - dynamics::bodyPosition(data, on.body_a));
+    EXPECT_NEAR(gap(on, data, q.data()), 0, 1e-12);
+    const Eigen::Vector2d projection = planeCoordinates(on, data);
+    Eigen::VectorXd tau_free = Eigen::VectorXd::Zero(nv), tau_fixed = Eigen::VectorXd::Zero(nv);
+    addReactionAt(s.model, data, on, 2.0, f_t, projection.data(), tau_free.data());
+    addReaction(s.model, data, on, 2.0, f_t, tau_fixed.data());
+    EXPECT_LT((tau_free - tau_fixed).norm(), 1e-12);
+    EXPECT_LT((relativeVelocityAt(on, data, projection.data()) - relativeVelocity(on, data)).norm(), 1e-12);
+  }
+}
+
 TEST(ContactKinematics, NormalRowIsTheGradientOfTheGapByAD) {
   using D = dynamics::Dual<Eigen::Dynamic>;
   const TwoBodies s;

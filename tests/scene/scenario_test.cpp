@@ -115,6 +115,24 @@ TEST(Scenario, BlockOnCartTouchesAPlaneOnTheCart) {
   EXPECT_EQ(c.directions, 2);
 }
 
+// `free_point: true`: the contact point on the plane is free along both of its axes in space,
+// along t1 alone in a planar scene (t2 is the normal to the plane of motion); without it, none.
+TEST(Scenario, AFreeContactPointIsFreeAlongThePlanesAxesOfMotion) {
+  EXPECT_TRUE(loadScene("block_on_cart").contacts[0].free_axes.empty());
+  EXPECT_EQ(loadScene(kDataDir + "free_point_spatial.yaml").contacts[0].free_axes, (std::vector<int>{0, 1}));
+  const Scene board = loadScene("skateboard");
+  int feet = 0;
+  for (const Contact& c : board.contacts)
+    if (c.surface < 0) {
+      ++feet;
+      EXPECT_EQ(c.free_axes, (std::vector<int>{0})) << c.name;
+      EXPECT_EQ(c.plane.tangents.col(1).cwiseAbs(), Eigen::Vector3d::UnitY()) << c.name;
+    } else {
+      EXPECT_TRUE(c.free_axes.empty()) << c.name;
+    }
+  EXPECT_EQ(feet, 2);
+}
+
 TEST(Scenario, BlockOnSlabStartsAtItsDropHeight) {
   const Scene s = loadScene("block_on_slab", {{"height", 0.4}, {"slab_height", 0.2}});
   ASSERT_EQ(s.model.nv(), 2);
@@ -488,6 +506,9 @@ TEST(ScenarioErrors, MissingKey) {
 }
 TEST(ScenarioErrors, PlaneOnThePointsOwnBody) {
   expectError("plane_same_body.yaml", "contacts[0].plane", {"same body as the point", "cannot touch itself"});
+}
+TEST(ScenarioErrors, FreePointOnAWorldSurface) {
+  expectError("free_point_on_surface.yaml", "contacts[0].free_point", {"needs a plane on a body", "unbounded"});
 }
 TEST(ScenarioErrors, PlaneWithoutExtent) {
   expectError("plane_bad_extent.yaml", "contacts[0].plane.extent", {"half-lengths", "must be positive"});

@@ -49,4 +49,12 @@ inline collocation::Problem ballOnPaddleProblem(double e, double mu, int N = 3, 
   return p;
 }
 
+// The same with its contact point free along the paddle (ContactPair::free_axes): on t1 alone
+// (the planar scene's), or on both axes as a spatial plane's would be.
+inline collocation::Problem ballOnPaddleFreePoint(double e, double mu, std::vector<int> axes, int N = 3, int P = 3) {
+  collocation::Problem p = ballOnPaddleProblem(e, mu, N, P);
+  p.scene.contacts.at(0).free_axes = std::move(axes);
+  return p;
+}
+
 }  // namespace saltus::testing
