@@ -26,6 +26,7 @@ struct OptimizeCliOptions {
   std::string feasibility_hessian;  // the feasibility and tightening stages'
   int print_level = 0;
   bool derivative_check = false;
+  bool no_hints = false;  // --no-hints
   std::string out;
 };
 

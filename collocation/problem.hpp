@@ -84,6 +84,7 @@ struct Problem {
   std::string name;
   std::string description;
   std::string source;  // problem file, or "builtin:<name>"
+  std::string scene_file;  // the scenario file of a problem file's `scene:` key (empty: the scene is in the file)
   std::string fingerprint;  // of the files and parameters it was read from (loadProblem); saved with a solution
   scene::Scene scene;  // model, surfaces, contacts, limit stops; q0, v0 = the initial state
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "collocation/problem_fingerprint.hpp"
@@ -555,26 +556,96 @@ std::vector<std::string> builtinProblemNames() {
   return scene::yamlFileNames(problemsDirectory());
 }
 
+namespace {
+
+// A problem file's `scene: <name or path>`: the scene read from that scenario file (a built-in
+// scene's name, or a path relative to the problem file), with the overrides that name its
+// parameters. The problem file then holds no scene keys of its own but its name, description and
+// parameters, and its expressions may use the scene's parameters.
+struct SceneReference {
+  scene::Scene scene;
+  std::string path;  // the scenario file
+  std::map<std::string, double> parameters;  // its parameters in use
+};
+
+SceneReference readSceneReference(const YamlReader& reader, const YAML::Node& root,
+                                  const std::map<std::string, double>& overrides) {
+  const YAML::Node node = root["scene"];
+  const std::string name = reader.text(node, "scene");
+  for (const std::string& key : kSceneKeys)
+    if (key != "name" && key != "description" && key != "parameters" && root[key].IsDefined())
+      reader.fail(YamlReader::keyMark(root, key), key,
+                  "the scene comes from '" + name + "' (key 'scene'): a problem file that names its scene gives "
+                  "none of its keys; change them in the scenario file, or its parameters with --set");
+  // A path is relative to the problem file's folder; a name is a built-in scene.
+  std::string wanted = name;
+  const bool path_like = name.find('/') != std::string::npos || name.ends_with(".yaml") || name.ends_with(".yml");
+  if (path_like && !std::filesystem::path(name).is_absolute())
+    wanted = (std::filesystem::path(reader.file()).parent_path() / name).string();
+  SceneReference ref;
+  std::string source;
+  try {
+    const scene::YamlSource found = scene::resolveYamlFile(wanted, scene::scenesDirectory(), "scene", "scenario file");
+    ref.path = found.path;
+    source = found.source;
+  } catch (const scene::ScenarioError& e) {
+    reader.fail(node, "scene", e.what());
+  }
+  const YAML::Node scene_root = scene::loadYamlFile(ref.path);
+  // The overrides of the scene's parameters go to it; the problem's own stay with the problem.
+  std::map<std::string, double> scene_overrides;
+  std::set<std::string> own;
+  if (const YAML::Node p = root["parameters"]; p.IsMap())
+    for (auto it = p.begin(); it != p.end(); ++it) own.insert(it->first.Scalar());
+  for (const auto& [key, value] : overrides)
+    if (!own.count(key) && scene_root.IsMap() && scene_root["parameters"].IsMap() &&
+        scene_root["parameters"][key].IsDefined())
+      scene_overrides[key] = value;
+  YamlReader scene_reader(ref.path, scene_overrides);
+  if (scene_root.IsMap()) scene_reader.readParameters(scene_root);
+  ref.scene = scene::readScene(scene_reader, scene_root);
+  ref.scene.source = source;
+  ref.parameters = scene_reader.parameters();
+  return ref;
+}
+
+}  // namespace
 
 Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
   const auto [path, source] = scene::resolveYamlFile(name_or_path, problemsDirectory(), "problem", "problem file");
   const YAML::Node root = scene::loadYamlFile(path, "problem file");
-  YamlReader reader(path, overrides);
+  Problem problem;
+  std::map<std::string, double> own_overrides = overrides;
+  std::optional<SceneReference> ref;
+  if (root.IsMap() && root["scene"].IsDefined()) {
+    const YamlReader first(path, {});  // for the messages about the key
+    ref = readSceneReference(first, root, overrides);
+    for (const auto& [name, value] : ref->parameters) own_overrides.erase(name);
+  }
+  YamlReader reader(path, own_overrides);
+  if (ref) reader.defineParameters(ref->parameters, ref->path);
   if (root.IsMap()) reader.readParameters(root);
   if (!root.IsMap())
     reader.fail(root, "", "a problem file must be a map of keys (name, model, mesh, ...), got " + describe(root));
   refuseSceneOnlyKeys(reader, root);
   std::vector<std::string> keys = kSceneKeys;
   keys.insert(keys.end(), kProblemKeys.begin(), kProblemKeys.end());
+  keys.push_back("scene");
   reader.checkMap(root, "", keys);
 
-  Problem problem;
-  problem.scene = scene::readScene(reader, root, kProblemKeys);
+  if (ref) {
+    problem.scene = std::move(ref->scene);
+    problem.scene_file = ref->path;
+    if (root["name"].IsDefined()) problem.scene.name = reader.text(root["name"], "name");
+    if (root["description"].IsDefined()) problem.scene.description = reader.text(root["description"], "description");
+  } else {
+    problem.scene = scene::readScene(reader, root, kProblemKeys);
+    problem.scene.source = source;
+  }
   if (problem.scene.model.base == dynamics::BaseType::FreeQuaternion)  // derivatives are taken along coordinates
-    reader.fail(root["base"], "base",
+    reader.fail(root[ref ? "scene" : "base"], ref ? "scene" : "base",
                 "the optimiser takes derivatives along coordinates, which a quaternion base's orientation has "
                 "not: use base: free (Euler angles; keep pitch away from ±π/2) in a problem file");
-  problem.scene.source = source;
   problem.name = problem.scene.name;
   problem.description = problem.scene.description;
   problem.source = source;

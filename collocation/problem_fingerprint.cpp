@@ -34,8 +34,10 @@ std::string problemFingerprint(const YAML::Node& root, const Problem& problem) {
   char tolerance[64];
   std::snprintf(tolerance, sizeof tolerance, "complementarity_tolerance=%.17g;", problem.complementarity_tolerance);
   fnv1a(h, tolerance);
-  // The URDF files the model was read from (a model written in the problem file is in its text).
+  // The scenario file of `scene:` and the URDF files the model was read from (a model written in
+  // the problem file is in its text).
   std::error_code error;
+  if (!problem.scene_file.empty()) fnv1a(h, fileBytes(problem.scene_file));  // a scene of its own file
   for (const std::string& urdf : problem.scene.model_files)
     if (std::filesystem::is_regular_file(urdf, error)) fnv1a(h, fileBytes(urdf));
   for (const auto& [name, value] : problem.parameters) {

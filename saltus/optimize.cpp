@@ -51,6 +51,7 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   if (options.exact_hessian) problem.exact_hessian = problem.feasibility_exact_hessian = *options.exact_hessian;
   if (options.feasibility_exact_hessian) problem.feasibility_exact_hessian = *options.feasibility_exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
+  if (!options.hints) problem.hints.clear();
   if (options.solve.print_level < 0 || options.solve.print_level > 12)
     throw std::invalid_argument("print_level: expected Ipopt's print level, 0 … 12, got " +
                                 std::to_string(options.solve.print_level));
@@ -110,6 +111,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
+  j["hints"] = problem.hints.size();  // (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;

@@ -147,6 +147,7 @@ struct OptimizeOptions {
   std::optional<bool> exact_hessian;            // every stage's; false: limited-memory
   std::optional<bool> feasibility_exact_hessian;  // the feasibility and tightening stages' (after exact_hessian)
   bool derivative_check = false;                // Ipopt's second-order derivative checker
+  bool hints = true;                            // false: without the problem's hints (Problem::hints)
   // Ipopt's print level and options, tightening, and an interruption check (restarts: above).
   collocation::SolveOptions solve;
 };

@@ -354,6 +354,9 @@ void YamlReader::readParameters(const YAML::Node& root) {
         if (!isIdentifier(name))
           fail(it->first, path, "a parameter name must be a letter or '_' followed by letters, digits or '_'");
         if (name == "pi") fail(it->first, path, "'pi' is a constant and cannot be a parameter");
+        if (const auto d = defined_elsewhere_.find(name); d != defined_elsewhere_.end())
+          fail(it->first, path, "'" + name + "' is a parameter of " + d->second +
+                                    " already: give this one another name (set that one with --set " + name + "=...)");
         // The default is evaluated even when overridden, so that a broken file shows at once.
         double value = number(it->second, path);
         if (const auto o = overrides_.find(name); o != overrides_.end()) value = o->second;
@@ -368,12 +371,22 @@ void YamlReader::readParameters(const YAML::Node& root) {
       }
     }
   }
+  for (const auto& [name, value] : defined_elsewhere_) names.push_back(name);  // (their overrides are theirs)
   for (const auto& [name, value] : overrides_)
     if (!params_.count(name))
       fail(keyMark(root, "parameters"), "parameters",
-           "--set " + name + "=" + fmt(value) + ": the scene has no parameter '" + name + "'" +
-               suggestion(name, names) + "; its parameters are: " + joinNames(names));
+           "--set " + name + "=" + fmt(value) + ": the " + (defined_elsewhere_.empty() ? "scene" : "problem") +
+               " has no parameter '" + name + "'" + suggestion(name, names) + "; its parameters are: " + joinNames(names));
 }
+void YamlReader::defineParameters(const std::map<std::string, double>& values, const std::string& origin) {
+  for (const auto& [name, value] : values) {
+    double& slot = params_[name];
+    slot = value;
+    parser_.DefineVar(name, &slot);
+    defined_elsewhere_[name] = origin;
+  }
+}
+
 std::map<std::string, double> parseOverrides(const std::vector<std::string>& assignments) {
   std::map<std::string, double> out;
   mu::Parser parser;

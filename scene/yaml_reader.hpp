@@ -67,6 +67,10 @@ class YamlReader {
   // Reads root["parameters"] (a map name: default); an override naming no parameter is an error
   // that lists the file's parameters.
   void readParameters(const YAML::Node& root);
+  // Before readParameters: parameters read from another file (a problem's scene file), with their
+  // values in use, for this file's expressions; `origin` names that file. A parameter of this file
+  // with one of their names is an error (it would shadow the other file's).
+  void defineParameters(const std::map<std::string, double>& values, const std::string& origin);
 
   [[noreturn]] void fail(const YAML::Mark& m, const std::string& path, const std::string& what) const;
   [[noreturn]] void fail(const YAML::Node& at, const std::string& path, const std::string& what) const {
@@ -98,6 +102,7 @@ class YamlReader {
   std::string file_;
   std::map<std::string, double> overrides_;
   std::map<std::string, double> params_;  // node-stable storage: muparser holds pointers into it
+  std::map<std::string, std::string> defined_elsewhere_;  // defineParameters: name -> its file
   mu::Parser parser_;
 };
 

@@ -58,7 +58,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -67,6 +67,7 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     if (*o.P > 9) r.fail(n["P"], "options.P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
   }
   if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], "options.restarts", 0);
+  if (n["hints"]) o.hints = r.boolean(n["hints"], "options.hints");
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], "options.seed_scale");
     if (*o.seed_scale < 0) r.fail(n["seed_scale"], "options.seed_scale", "expected a non-negative number");
@@ -247,6 +248,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
+  if (!o.hints) a.push_back("--no-hints");
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});

@@ -32,6 +32,7 @@ struct SolveSettings {
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<int> task_max_iter;      // --task-max-iter
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
+  bool hints = true;      // false: --no-hints
   std::string hessian;              // --hessian: "", "exact" or "limited-memory"
   std::string feasibility_hessian;  // --feasibility-hessian: the same
   std::map<std::string, std::string> ipopt;  // --ipopt name=value

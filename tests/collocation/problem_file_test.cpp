@@ -12,13 +12,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <numbers>
+
+#include <unistd.h>
 
 #include "contact/kinematics.hpp"
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
+#include "scene/scenario.hpp"
 #include "scene/yaml_reader.hpp"
 
 namespace saltus::collocation {
@@ -84,7 +89,8 @@ TEST(Method, UnknownNameListsTheValidOnes) {
 
 TEST(ProblemFile, BuiltinNames) {
   EXPECT_EQ(builtinProblemNames(),
-            (std::vector<std::string>{"biped_stop", "monopod_turn", "pendulum_conveyor", "point_mass_drop", "point_mass_throw"}));
+            (std::vector<std::string>{"biped_stop", "monopod_turn", "ollie_simple", "pendulum_conveyor", "point_mass_drop",
+                                      "point_mass_throw"}));
 }
 
 TEST(ProblemFile, PointMassDrop) {
@@ -424,6 +430,48 @@ TEST_F(FullProblem, OverridesReachElementNumbers) {
   EXPECT_EQ(q->lower, 0.2);
 }
 
+// `scene: skateboard`: the scene from its scenario file, its parameters in the problem's
+// expressions, --set reaching the scene's parameters and the problem's own, and the scenario
+// file's text in the fingerprint.
+TEST(ProblemFile, ASceneFromItsOwnFile) {
+  const std::string path = kDataDir + "scene_reference.yaml";
+  const Problem p = loadProblem(path);
+  const scene::Scene board = scene::loadScene("skateboard");
+  EXPECT_EQ(p.name, "board_test");
+  EXPECT_EQ(p.scene.model.coordinate_name, board.model.coordinate_name);
+  ASSERT_EQ(p.scene.contacts.size(), board.contacts.size());
+  EXPECT_EQ(p.scene.contacts[3].free_axes, std::vector<int>{0});
+  EXPECT_EQ(p.scene.q0, board.q0);
+  EXPECT_EQ(p.scene_file, std::string(SALTUS_SOURCE_DIR) + "/models/scenes/skateboard.yaml");
+  ASSERT_EQ(p.inputs.size(), 1u);
+  EXPECT_NEAR(p.input_upper[0], 2 * 36.5 * 9.81, 1e-9);  // the problem's `limit`, the scene's rider_mass and g
+  EXPECT_EQ(p.parameters.at("limit"), 2);
+  EXPECT_EQ(p.parameters.at("friction"), 1.6);
+  const Problem set = loadProblem(path, {{"friction", 0.9}, {"limit", 1}, {"rider_mass", 40}});
+  EXPECT_EQ(set.scene.contacts[3].friction, 0.9);
+  EXPECT_NEAR(set.input_upper[0], 40 * 9.81, 1e-9);
+  EXPECT_EQ(set.scene.parameters.at("rider_mass"), 40);
+  EXPECT_NE(set.fingerprint, p.fingerprint);
+  const std::string what = errorOf([&] { loadProblem(path, {{"frction", 1}}); });
+  EXPECT_TRUE(contains(what, "the problem has no parameter 'frction'")) << what;
+  EXPECT_TRUE(contains(what, "did you mean 'friction'")) << what;
+  // The scenario file is part of the fingerprint: a copy beside the problem, changed.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("saltus_scene_ref_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(std::string(SALTUS_SOURCE_DIR) + "/models/scenes/skateboard.yaml", dir / "board.yaml");
+  std::string text;
+  {
+    std::ifstream in(path);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  text.replace(text.find("scene: skateboard"), 17, "scene: board.yaml");
+  std::ofstream(dir / "problem.yaml") << text;
+  const std::string before = loadProblem((dir / "problem.yaml").string()).fingerprint;
+  std::ofstream(dir / "board.yaml", std::ios::app) << "# changed\n";
+  EXPECT_NE(loadProblem((dir / "problem.yaml").string()).fingerprint, before);
+  std::filesystem::remove_all(dir);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Bad input: the message names the file, the line marked `# <-- error` in the fixture, the key
 // path and what was expected.
@@ -442,6 +490,15 @@ std::string expectError(const std::string& fixture, const std::string& key_path,
 TEST(ProblemFileErrors, UnknownHessian) {
   expectError("bad_hessian.yaml", "solve.feasibility_hessian",
               {"unknown hessian 'limited_memory'", "did you mean 'limited-memory'", "expected one of: exact, limited-memory"});
+}
+TEST(ProblemFileErrors, SceneKeyBesideASceneFile) {
+  expectError("scene_reference_with_model.yaml", "model", {"the scene comes from 'skateboard'", "none of its keys"});
+}
+TEST(ProblemFileErrors, SceneFileThatDoesNotExist) {
+  expectError("scene_reference_missing.yaml", "scene", {"skateborad", "did you mean 'skateboard'"});
+}
+TEST(ProblemFileErrors, ParameterThatShadowsTheScenes) {
+  expectError("scene_reference_shadow.yaml", "parameters.friction", {"'friction' is a parameter of", "skateboard.yaml"});
 }
 TEST(ProblemFileErrors, UnknownKey) {
   expectError("unknown_key.yaml", "mesh.h_mx", {"unknown key 'h_mx'", "did you mean 'h_max'", "expected one of: N, P"});

@@ -106,6 +106,14 @@ TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
   const saltus::collocation::Problem mixed = saltus::adjustedProblem(problem, options);
   EXPECT_FALSE(mixed.exact_hessian);
   EXPECT_TRUE(mixed.feasibility_exact_hessian);
+  // hints = false (--no-hints) drops the problem's hints; the default keeps them.
+  const saltus::collocation::Problem hinted = saltus::loadProblem("ollie_simple", {});
+  ASSERT_FALSE(hinted.hints.empty());
+  EXPECT_EQ(saltus::adjustedProblem(hinted, saltus::OptimizeOptions{}).hints.size(), hinted.hints.size());
+  saltus::OptimizeOptions unhinted;
+  unhinted.hints = false;
+  EXPECT_TRUE(saltus::adjustedProblem(hinted, unhinted).hints.empty());
+  EXPECT_EQ(saltus::adjustedProblem(hinted, unhinted).bounds.size(), hinted.bounds.size());
   auto message = [&](const saltus::OptimizeOptions& o) {
     try {
       saltus::adjustedProblem(problem, o);

@@ -36,7 +36,7 @@ problems:
 methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
-options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, feasibility_hessian: limited-memory,
+options: {N: 10, restarts: 0, hints: false, tighten_within: 0, task_max_iter: 500, feasibility_hessian: limited-memory,
           ipopt: {bound_push: 1e-6}}
 )",
                                         "spec.yaml");
@@ -58,7 +58,7 @@ options: {N: 10, restarts: 0, tighten_within: 0, task_max_iter: 500, feasibility
 
   const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
-                                             "--set", "friction=0.5", "--N", "10", "--restarts", "0",
+                                             "--set", "friction=0.5", "--N", "10", "--restarts", "0", "--no-hints",
                                              "--tighten-within", "0", "--task-max-iter", "500",
                                              "--feasibility-hessian", "limited-memory", "--ipopt", "bound_push=1e-6",
                                              "--out", "OUT"};
