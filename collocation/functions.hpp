@@ -194,7 +194,8 @@ struct PlaneCoordinate {
 // where s_A = planeCoordinates(q) is A's point projected onto B's plane and s the contact point's
 // plane coordinates (bounded by the extent). The transcription makes r_n ⊥ Σ_i (d⁺_i + d⁻_i) and
 // d⁺_i ⊥ d⁻_i: while the contact carries a reaction the contact point is A's projection, so A
-// is over the rectangle; while it carries none A may be anywhere. Inputs: q (n), s, d⁺, d⁻ (m each).
+// is over the rectangle; while it carries none A may be beyond it (above the plane's level: the
+// gap stays the unbounded plane's). Inputs: q (n), s, d⁺, d⁻ (m each).
 struct FreePointOffset {
   const ModelSet* models;
   const ContactPair* contact;

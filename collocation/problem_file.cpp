@@ -644,8 +644,9 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
   }
   if (problem.scene.model.base == dynamics::BaseType::FreeQuaternion)  // derivatives are taken along coordinates
     reader.fail(root[ref ? "scene" : "base"], ref ? "scene" : "base",
-                "the optimiser takes derivatives along coordinates, which a quaternion base's orientation has "
-                "not: use base: free (Euler angles; keep pitch away from ±π/2) in a problem file");
+                std::string("the optimiser takes derivatives along coordinates, which a quaternion base's orientation "
+                            "has not: use base: free (Euler angles; keep pitch away from ±π/2) ") +
+                    (ref ? "in the scenario file" : "in a problem file"));
   problem.name = problem.scene.name;
   problem.description = problem.scene.description;
   problem.source = source;

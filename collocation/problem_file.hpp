@@ -21,8 +21,9 @@ namespace saltus::collocation {
 // Loads a problem by built-in name (problemsDirectory()/<name>.yaml) or by file path (anything
 // containing '/' or ending in .yaml/.yml). `overrides` replace parameter defaults (--set); one
 // naming no parameter of the file is an error that lists the file's parameters.
-// Problem::source (and scene.source) is "builtin:<name>" for a built-in problem, else the path
-// as given.
+// Problem::source is "builtin:<name>" for a built-in problem, else the path as given; so is
+// scene.source, except for a scene of its own file (`scene:`), where it is that scenario file's
+// ("builtin:<scene>" or its path) and Problem::scene_file its path.
 Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides = {});
 
 // Names of the built-in problems, sorted.

@@ -276,12 +276,14 @@ void Transcription::buildContactConstraints(int n) {
   // end), so that the gap of the unbounded plane is its gap. A motion that leaves the rectangle
   // (off the end of a deck) is outside what the transcription represents: its solve is infeasible.
   // A free contact point instead keeps its contact point s over the rectangle (its bounds) and A
-  // at s while the contact carries a reaction.
+  // at s while the contact carries a reaction, along its free axes; along the other (a planar
+  // model's t2) the point stays over the rectangle as here.
   for (int c = 0; c < nc; ++c) {
     const ContactPair& cp = contacts_[c];
-    if (!contact::hasExtent(cp) || cp.freePoint()) continue;
+    if (!contact::hasExtent(cp)) continue;
     for (int axis = 0; axis < 2; ++axis) {
       if (!std::isfinite(cp.extent[axis])) continue;
+      if (std::find(cp.free_axes.begin(), cp.free_axes.end(), axis) != cp.free_axes.end()) continue;
       const auto s = std::make_shared<AdFunction<PlaneCoordinate>>(PlaneCoordinate{models_.get(), &cp, axis});
       for (int p = n == 0 ? 0 : 1; p < npts; ++p)
         addBlock(s, range(L.points[p].q, nv_), -cp.extent[axis], cp.extent[axis],

@@ -155,7 +155,7 @@ void bindOptimize(py::module_& m) {
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
          std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
-         std::optional<int> task_max_iter, bool require_feasible, const Parameters& set) {
+         std::optional<int> task_max_iter, bool hints, bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
         OptimizeOptions o;
         o.method = collocation::parseMethod(method);
@@ -166,6 +166,7 @@ void bindOptimize(py::module_& m) {
         o.seed_from = seed_from;
         o.seed_scale = seed_scale;
         o.restarts = restarts;
+        o.hints = hints;
         const auto exact = [](const char* name, const std::optional<std::string>& kind, std::optional<bool>& out) {
           if (!kind) return;
           if (*kind != "exact" && *kind != "limited-memory")
@@ -219,7 +220,7 @@ void bindOptimize(py::module_& m) {
       py::arg("seed_from") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
-      py::arg("task_max_iter") = py::none(), py::arg("require_feasible") = false,
+      py::arg("task_max_iter") = py::none(), py::arg("hints") = true, py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},
       "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
       "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize`. An "

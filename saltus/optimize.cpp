@@ -111,7 +111,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
-  j["hints"] = problem.hints.size();  // (--no-hints: 0)
+  j["hints_used"] = problem.hints.size();  // the hints imposed (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;

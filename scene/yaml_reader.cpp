@@ -375,7 +375,7 @@ void YamlReader::readParameters(const YAML::Node& root) {
   for (const auto& [name, value] : overrides_)
     if (!params_.count(name))
       fail(keyMark(root, "parameters"), "parameters",
-           "--set " + name + "=" + fmt(value) + ": the " + (defined_elsewhere_.empty() ? "scene" : "problem") +
+           "--set " + name + "=" + fmt(value) + ": the " + (file_kind_problem_ ? "problem" : "scene") +
                " has no parameter '" + name + "'" + suggestion(name, names) + "; its parameters are: " + joinNames(names));
 }
 void YamlReader::defineParameters(const std::map<std::string, double>& values, const std::string& origin) {
@@ -385,6 +385,7 @@ void YamlReader::defineParameters(const std::map<std::string, double>& values, c
     parser_.DefineVar(name, &slot);
     defined_elsewhere_[name] = origin;
   }
+  file_kind_problem_ = true;
 }
 
 std::map<std::string, double> parseOverrides(const std::vector<std::string>& assignments) {

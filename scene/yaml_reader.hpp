@@ -103,6 +103,7 @@ class YamlReader {
   std::map<std::string, double> overrides_;
   std::map<std::string, double> params_;  // node-stable storage: muparser holds pointers into it
   std::map<std::string, std::string> defined_elsewhere_;  // defineParameters: name -> its file
+  bool file_kind_problem_ = false;  // a problem file over a scene's (defineParameters called): for messages
   mu::Parser parser_;
 };
 

@@ -379,11 +379,12 @@ TEST(Solver, IpoptDerivativeCheckerPassesOnTheBuiltinProblems) {
       }
     }
   // A contact point free along a turning body's plane: its s in the equations of motion, the
-  // slip and the offset rows (second order).
+  // slip and the offset rows (first order: the second-order check takes 8 s here and over 10
+  // minutes under ASan; NlpDerivatives.BallOnPaddleFreePoint* check the Hessian by differences).
   for (Method m : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
     const Problem p = testing::ballOnPaddleFreePoint(m == Method::Impulsive ? 0.4 : 0.0, 0.5, {0}, 2, 2);
     const Transcription t(p, m);
-    const DerivativeCheckReport r = checkDerivatives(t, Stage::Task, t.perturb(t.nullSeed(), 0.1, 5), true);
+    const DerivativeCheckReport r = checkDerivatives(t, Stage::Task, t.perturb(t.nullSeed(), 0.1, 5), false);
     EXPECT_TRUE(r.ran) << "free point, " << toString(m) << ": Ipopt's checker gave no summary";
     EXPECT_EQ(r.errors, 0) << "free point, " << toString(m) << ":\n" << r.log;
   }

@@ -120,3 +120,17 @@ def test_the_feasibility_stage_can_go_without_second_derivatives():
     for s in (quasi, exact):
         jump = np.argmax(np.diff(s.v[:, 0]))
         assert abs(s.t[jump + 1] - np.sqrt(2 * H / G)) < 1e-3
+
+
+def test_hints_false_solves_without_the_problems_hints(tmp_path, root):
+    """A hint the drop cannot meet (the ball down at [2, 0], 0.04 s after its release from 0.1 m):
+    infeasible with it, its reach in the summary; hints=False (--no-hints) solves."""
+    path = tmp_path / "hinted_drop.yaml"
+    text = (root / "models" / "problems" / "point_mass_drop.yaml").read_text()
+    path.write_text(text + "\nhints:\n  - {at: [2, 0], gap: {ball: 0}}\n")
+    hinted = saltus.optimize(str(path), restarts=0)
+    assert not hinted.feasible
+    assert hinted.summary["hints_used"] == 1 and len(hinted.summary["hints"]) == 1
+    assert hinted.summary["hints"][0]["reachable"] is False
+    unhinted = saltus.optimize(str(path), restarts=0, hints=False)
+    assert unhinted.feasible and unhinted.summary["hints_used"] == 0

@@ -77,6 +77,35 @@ TEST_F(ApiOptimize, TheSavedFilesAreTheResult) {
   EXPECT_LE((saved.x - r.report.x).cwiseAbs().maxCoeff(), 1e-12 * (1 + r.report.x.cwiseAbs().maxCoeff()));
 }
 
+// A hint the motion cannot meet (the drop's ball on the ground at [2, 0], t ≤ 0.04 s after its
+// release from 0.1 m): the solve ends infeasible, and summary.json counts the hints imposed and
+// reports each one's reach; without the hints (--no-hints) the same problem solves.
+TEST(ApiOptimizeHints, AnUnreachableHintIsReportedAndDroppedByNoHints) {
+  saltus::collocation::Problem p = saltus::loadProblem("point_mass_drop", {});
+  saltus::collocation::PointBound hint;
+  hint.quantity = {saltus::collocation::Quantity::Kind::Gap, 0};
+  hint.element = 1;
+  hint.point = 0;
+  hint.lower = hint.upper = 0;
+  hint.origin = "test";
+  p.hints.push_back(hint);
+  saltus::OptimizeOptions options;
+  options.restarts = 0;
+  const saltus::OptimizeResult hinted = saltus::optimize(p, options);
+  ASSERT_FALSE(hinted.feasible());
+  const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(hinted));
+  EXPECT_EQ(j.at("hints_used").get<int>(), 1);
+  ASSERT_EQ(j.at("hints").size(), 1u);
+  EXPECT_EQ(j.at("hints")[0].at("origin"), "test");
+  EXPECT_FALSE(j.at("hints")[0].at("reachable").get<bool>());
+  options.hints = false;
+  const saltus::OptimizeResult unhinted = saltus::optimize(p, options);
+  EXPECT_TRUE(unhinted.feasible());
+  const nlohmann::json u = nlohmann::json::parse(saltus::summaryJson(unhinted));
+  EXPECT_EQ(u.at("hints_used").get<int>(), 0);
+  EXPECT_FALSE(u.contains("hints"));
+}
+
 TEST_F(ApiOptimize, AMethodThatCannotRepresentTheProblemIsRefused) {
   // The continuous-velocity method admits e = 0 only.
   const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
