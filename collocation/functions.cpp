@@ -15,7 +15,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
   const auto& model_d = models->modelWithoutGravity<Dual>();
   auto& data_d = models->data<Dual>();
   bool any_point = false;
-  for (const ContactPair& c : *contacts) any_point = any_point || (!c.isStop() && !c.freePoint());
+  for (const ContactPair& c : *contacts) any_point = any_point || !c.isStop();
   // First-order passes with q seeded, a chunk of coordinates at a time.
   VecD q(n), zero = VecD::Zero(n), l(n);
   for (int i = 0; i < n; ++i) {
@@ -38,11 +38,15 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
     dynamics::forwardVelocities(model_d, data_d, ConstMap<Dual>(q.data(), n), ConstMap<Dual>(l.data(), n));
     int k = first_reaction;
     for (const ContactPair& c : *contacts) {
-      if (c.isStop() || c.freePoint()) {  // a stop: tau_i −= sign·r_n, no q; a free point: by the sweeps
-        k += 1 + c.k() + c.freeAxes();
+      if (c.isStop()) {  // tau_i −= sign·r_n: no q
+        k += 1;
         continue;
       }
-      const Vec3<Dual> w = contact::relativeVelocity(c, data_d);
+      // A free point's w is B's material point at its plane coordinates s (constants here).
+      const int m = c.freeAxes();
+      Dual s[2];
+      for (int i = 0; i < m; ++i) s[i] = Dual(x[k + 1 + c.k() + i], Eigen::Matrix<double, kChunk, 1>::Zero());
+      const Vec3<Dual> w = m > 0 ? contact::relativeVelocityAt(c, data_d, s) : contact::relativeVelocity(c, data_d);
       const double rn = x[k];
       const double df_dt = friction == FrictionForm::Activation ? -c.friction * rn : 1.0;
       // ∂(a·w)/∂q for a = ∂f/∂r_n and a = d_i: by the product rule, a's derivatives only when the
@@ -81,8 +85,27 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
           }
         }
         addRow(k, df_drn, 1.0);
+        // A free point, φ_c = −f·w with w affine in s: ∂φ/∂s_i = −f·e_i, e_i = ∂w/∂s_i
+        // (relativeVelocityAtSlope), a function of q; its pairs with r_n and α_j are
+        // −(∂f/∂r_n)·e_i and −(∂f/∂α_j)·e_i, and (s, s) is zero.
+        for (int i = 0; i < m; ++i) {
+          const Vec3<Dual> e = contact::relativeVelocityAtSlope(c, data_d, i);
+          const int row = k + 1 + c.k() + i;
+          Vec3<Dual> f = contact::planeNormal(c, data_d) * Dual(rn);
+          for (int j = 0; j < c.k(); ++j) f += contact::frictionDirection(c, data_d, j) * Dual(df_dt * x[k + 1 + j]);
+          const Dual fe = f.dot(e);
+          for (int col = 0; col < count; ++col) h(row, first + col) -= fe.derivatives()[col];
+          if (first != 0) continue;
+          const Eigen::Vector3d ev(e[0].value(), e[1].value(), e[2].value());
+          Eigen::Vector3d df_drn_v(df_drn[0].value(), df_drn[1].value(), df_drn[2].value());
+          h(row, k) -= df_drn_v.dot(ev);
+          for (int j = 0; j < c.k(); ++j) {
+            const Vec3<Dual> d = contact::frictionDirection(c, data_d, j);
+            h(row, k + 1 + j) -= df_dt * Eigen::Vector3d(d[0].value(), d[1].value(), d[2].value()).dot(ev);
+          }
+        }
       }
-      k += 1 + c.k();
+      k += 1 + c.k() + m;
     }
   }
   if (!with_dynamics) return;

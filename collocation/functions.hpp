@@ -91,20 +91,16 @@ struct EquationOfMotion {
   //   (q, r):  φ_c = −f_c(q, r)·w_c(q), w_c = J_c(q) λ the contact's relative velocity at q̇ = λ
   //            (RBDA 4.4); f_c depends on q through the plane's frame when the plane is on a body
   //   (r_n, α_i): μ d_i·w_c (Activation; zero in the Direct form)
+  //   (s, ·):  a free point's w_c is affine in its plane coordinates s, ∂w_c/∂s_i = e_i(q)
+  //            (contact::relativeVelocityAtSlope): ∂φ/∂s_i = −f_c·e_i, differentiated in q,
+  //            r_n and α as above; (s, s) is zero
   //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
   //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
-  // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α.
-  // A free point's pairs, (q, r), (r_n, α) and those with its s, are left to the sweeps.
+  // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α
+  // and s. The sweeps are left the pairs within q and between q and q̇.
   bool pairByAd(int i, int j) const {  // i ≥ j
     const int n = nv();
-    if (j < n && i < (with_dynamics ? 2 : 1) * n) return true;
-    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
-    for (const ContactPair& c : *contacts) {
-      const int end = k + 1 + c.k() + c.freeAxes();
-      if (c.freePoint() && i >= k && i < end) return j < n || j >= k;  // with q, or within its own inputs
-      k = end;
-    }
-    return false;
+    return j < n && i < (with_dynamics ? 2 : 1) * n;
   }
   void addHessian(const double* x, const double* lambda, double* H) const;
 

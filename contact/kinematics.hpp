@@ -131,6 +131,14 @@ Vec3<S> relativeVelocityAt(const ContactPair& pair, const dynamics::Data<S>& dat
          dynamics::pointVelocity(data, pair.body_b, planePointInB(pair, s));
 }
 
+// ∂/∂s_i of relativeVelocityAt (which is affine in s): B's material point moves along the free
+// axis i with B's rotation, −ω_B × t_i in world coordinates (ω_B from forwardVelocities).
+template <class S>
+Vec3<S> relativeVelocityAtSlope(const ContactPair& pair, const dynamics::Data<S>& data, int i) {
+  const Vec3<S> t_B = pair.tangents_B.col(pair.free_axes[i]).cast<S>();
+  return -(data.X_world[pair.body_b].E.transpose() * data.v[pair.body_b].w.cross(t_B));
+}
+
 // The same less a world plane's material velocity (a belt's; tangent to the plane): the slip.
 template <class S>
 Vec3<S> relativeVelocity(const ContactPair& pair, const dynamics::Data<S>& data,

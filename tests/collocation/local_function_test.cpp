@@ -147,8 +147,8 @@ TEST(AdFunction, DeclaredLinearInputsPointMass) {
   checkDeclaredLinearity(testing::pointMassDrop(0.5, 0.1, 2, 2), Method::Impulsive, 4);  // eom, gap, restitution, integration
 }
 
-// A free contact point: its s in the equations of motion (the pairs the EOM leaves to the sweeps
-// instead of writing them) and the slip, and the offset rows.
+// A free contact point: its s in the equations of motion (pairs the EOM writes itself, from
+// first-order passes) and the slip, and the offset rows.
 TEST(AdFunction, DeclaredLinearInputsFreePoint) {
   for (const std::vector<int>& axes : {std::vector<int>{0}, std::vector<int>{0, 1}}) {
     checkDeclaredLinearity(testing::ballOnPaddleFreePoint(0.4, 0.5, axes, 2, 2), Method::Impulsive, 6);

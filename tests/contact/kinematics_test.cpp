@@ -171,6 +171,13 @@ TEST(ContactKinematics, FreePointOnABodysPlane) {
     const Eigen::Vector3d xm = planePoint(s.pair, data2, plane_s.data());
     const Eigen::Vector3d v_A = dynamics::pointVelocity(data, s.pair.body_a, s.pair.point_A);
     EXPECT_LT((relativeVelocityAt(s.pair, data, plane_s.data()) - (v_A - (xp - xm) / (2 * h))).norm(), 1e-8);
+    // Its slope along each free axis: relativeVelocityAt is affine in s, so a unit step is exact.
+    for (int i = 0; i < 2; ++i) {
+      Eigen::Vector2d s1 = plane_s;
+      s1[i] += 1.0;
+      const Eigen::Vector3d step = relativeVelocityAt(s.pair, data, s1.data()) - relativeVelocityAt(s.pair, data, plane_s.data());
+      EXPECT_LT((relativeVelocityAtSlope(s.pair, data, i) - step).norm(), 1e-12);
+    }
     // Virtual power: the reaction on A at its point and on B at s.
     const Eigen::Vector3d f_t = frictionDirections(s.pair, data).col(1) * -0.4;
     Eigen::VectorXd tau = Eigen::VectorXd::Zero(nv);
