@@ -345,7 +345,7 @@ void Transcription::buildContactConstraints(int n) {
         std::vector<int> d = range(C.d_plus[p], m);
         for (int i = 0; i < m; ++i) d.push_back(C.d_minus[p] + i);
         addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, d, Eigen::VectorXd::Ones(2 * m), 0,
-                   "on_point." + tag + at(n, p));
+                   "on_point." + tag + at(n, p), method_ == Method::Impulsive && p == 0 ? kMidAirImpulseWeight : 1.0);
         for (int i = 0; i < m; ++i)
           addProduct({C.d_plus[p] + i}, Eigen::VectorXd::Ones(1), 0, {C.d_minus[p] + i}, Eigen::VectorXd::Ones(1), 0,
                      "offset_split." + tag + at(n, p) + (m == 1 ? "" : "." + std::to_string(i)));

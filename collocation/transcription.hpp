@@ -24,7 +24,8 @@
 //   q[k+1] = q[k] + h q̇[k+1], q̇[k+1] = q̇[k] + h q̈[k+1], EOM at k+1 with λ_n, β_i ≥ 0;
 //   φ(q[k+1]) ⊥ λ_n;  γ + d_iᵀ v_t ⊥ β_i;  μ λ_n − Σ β_i ⊥ γ.
 // Every product A·B ≤ ε with ε ≥ 0 a variable (paper eq. 8), penalised in the cost: Σ w ε with
-// w = 1, except kMidAirImpulseWeight for an impulse's gap product.
+// w = 1, except kMidAirImpulseWeight for an impulse's gap product and a free point's on-point
+// product at an impulse.
 #pragma once
 
 #include <memory>
@@ -54,6 +55,9 @@ enum CostGroup { kPenaltyCost = 0, kTaskCost = 1 };
 // random seeds each) the solves most often stop at a local minimum with an impulse in mid-air;
 // weighted 1, 10 and 100: 18, 26 and 22 successes of 40 (16 with the single product of (9b)), and
 // no change on the simulation-seeded grid (contact_discovery.yaml: 187 and 188 of 191).
+// A free contact point's r_n[n,0] ⊥ Σ (d⁺ + d⁻) (an impulse where the foot is not) has the same
+// weight: on ollie_simple (strategy 3, seeds 1–4, 150 s) the largest products at the end of the
+// feasibility stage went from 27, 22, 10, 21 (all at such products) to 9.8, 15, 15, 15 (none).
 constexpr double kMidAirImpulseWeight = 10.0;
 
 // Where the variables of one element live (−1: absent).

@@ -190,6 +190,32 @@ TEST(Transcription, RestitutionFormsAgreeWithTheTwoSidedBalance) {
   checkRestitutionForms(testing::ballOnPaddleProblem(0.4, 0.5), 0, 0, testing::ballOnPaddleProblem(0.4, 0.5).N - 1);
 }
 
+// The penalty Σ w ε of the feasibility stage: w = kMidAirImpulseWeight for an impulse at an open
+// contact (impact_gap) and for a free point's impulse away from its point (on_point at [n, 0]),
+// 1 for every other product, the continuous method's on_point at the collocation points included.
+TEST(Transcription, PenaltyWeightsMidAirImpulsesAndImpulsesOffTheirPoint) {
+  for (Method method : {Method::Impulsive, Method::Continuous}) {
+    const Problem p = testing::ballOnPaddleFreePoint(method == Method::Impulsive ? 0.4 : 0.0, 0.5, {0}, 3, 2);
+    const Transcription t(p, method);
+    Nlp nlp(t, Stage::Feasibility, t.nullSeed());
+    const Eigen::VectorXd x = t.nullSeed();
+    const double base = nlp.cost(x);
+    int heavy = 0, on_point = 0;
+    for (std::size_t k = 0; k < t.productBlocks().size(); ++k) {
+      const std::string& name = t.constraintNames()[t.blocks()[t.productBlocks()[k]].row];
+      Eigen::VectorXd y = x;
+      y[t.penaltyVariables()[k]] += 1.0;
+      const bool impulse_off_point = name.starts_with("on_point.") && name.ends_with(",0]");
+      const bool expected_heavy = name.starts_with("impact_gap.") || impulse_off_point;
+      EXPECT_NEAR(nlp.cost(y) - base, expected_heavy ? kMidAirImpulseWeight : 1.0, 1e-12) << toString(method) << " " << name;
+      heavy += expected_heavy;
+      on_point += name.starts_with("on_point.");
+    }
+    EXPECT_EQ(heavy > 0, method == Method::Impulsive) << toString(method);
+    EXPECT_GT(on_point, 0) << toString(method);
+  }
+}
+
 TEST(Transcription, ContinuousRefusesRestitution) {
   try {
     const Problem bouncing = testing::pointMassDrop(0.5);

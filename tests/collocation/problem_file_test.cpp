@@ -89,7 +89,7 @@ TEST(Method, UnknownNameListsTheValidOnes) {
 
 TEST(ProblemFile, BuiltinNames) {
   EXPECT_EQ(builtinProblemNames(),
-            (std::vector<std::string>{"biped_stop", "monopod_turn", "ollie_simple", "pendulum_conveyor", "point_mass_drop",
+            (std::vector<std::string>{"biped_stop", "monopod_turn", "ollie", "ollie_simple", "pendulum_conveyor", "point_mass_drop",
                                       "point_mass_throw"}));
 }
 
@@ -428,6 +428,35 @@ TEST_F(FullProblem, OverridesReachElementNumbers) {
   const PointBound* q = find(p.bounds, Quantity::Kind::Position, coordinate("rev"), 4, 0);
   ASSERT_NE(q, nullptr);
   EXPECT_EQ(q->lower, 0.2);
+}
+
+// The full-body Ollie: the biped on the board (scene skateboard_rider) driven by its six joint
+// torques within the biped's limits, the paper's mesh, the air constraint and the tail hint.
+TEST(ProblemFile, OllieDrivesTheRiderOnTheBoard) {
+  const Problem p = loadProblem("ollie");
+  const scene::Scene rider = scene::loadScene("skateboard_rider");
+  EXPECT_EQ(p.scene_file, std::string(SALTUS_SOURCE_DIR) + "/models/scenes/skateboard_rider.yaml");
+  EXPECT_EQ(p.scene.model.coordinate_name, rider.model.coordinate_name);
+  EXPECT_EQ(p.scene.q0, rider.q0);
+  EXPECT_EQ(p.scene.limits.size(), 12u);  // the biped's hard stops
+  EXPECT_EQ(p.N, 40);
+  EXPECT_EQ(p.P, 2);
+  EXPECT_EQ(p.h_max, 0.02);
+  ASSERT_EQ(p.inputs.size(), 6u);
+  const auto& names = p.scene.model.coordinate_name;
+  for (std::size_t i = 0; i < p.inputs.size(); ++i) {
+    const std::string& joint = names[p.inputs[i]];
+    const double lower = joint.starts_with("shoulder") ? -60 : joint.starts_with("hip") ? -180 : -150;
+    const double upper = joint.starts_with("shoulder") ? 80 : 270;
+    EXPECT_EQ(p.input_lower[i], lower) << joint;
+    EXPECT_EQ(p.input_upper[i], upper) << joint;
+  }
+  ASSERT_EQ(p.hints.size(), 1u);
+  EXPECT_EQ(p.hints[0].element, 9);  // [10, 0], 0-based
+  int air = 0;
+  for (const PointBound& b : p.bounds)
+    if (b.element == 19 && b.point == 0 && b.lower == 0.2) ++air;
+  EXPECT_EQ(air, 2);  // both wheels
 }
 
 // `scene: skateboard`: the scene from its scenario file, its parameters in the problem's

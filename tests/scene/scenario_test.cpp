@@ -64,7 +64,7 @@ TEST(Scenario, BuiltinNames) {
   EXPECT_EQ(builtinSceneNames(),
             (std::vector<std::string>{"ball_drop", "block_on_cart", "block_on_slab", "block_slide", "box_on_corners", "box_stack",
                                       "chain_on_stops", "fast_spin", "hyq_drop", "newtons_cradle", "painleve_rod",
-                                      "pendulum_conveyor", "rocking_block", "skateboard"}));
+                                      "pendulum_conveyor", "rocking_block", "skateboard", "skateboard_rider"}));
 }
 
 TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
@@ -73,7 +73,7 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
       {"painleve_rod", {3, 1}},      {"block_on_cart", {3, 1}}, {"block_on_slab", {2, 2}},
       {"rocking_block", {3, 2}},     {"newtons_cradle", {3, 2}}, {"box_on_corners", {6, 4}},
       {"chain_on_stops", {10, 0}},    {"fast_spin", {6, 0}},     {"hyq_drop", {18, 4}},
-      {"box_stack", {3, 3}},         {"skateboard", {7, 5}}};
+      {"box_stack", {3, 3}},         {"skateboard", {7, 5}},    {"skateboard_rider", {12, 5}}};
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);
     const Scene s = loadScene(name);
@@ -88,7 +88,8 @@ TEST(Scenario, EveryBuiltinLoadsWithItsCoordinatesAndContacts) {
     EXPECT_EQ(s.v0.size(), s.model.nv());
     EXPECT_EQ(s.tau.size(), s.model.nv());
     EXPECT_EQ(s.tau.isZero(), name != "block_on_cart");  // the cart is pulled
-    EXPECT_EQ(s.limits.size(), name == "chain_on_stops" ? 18u : name == "hyq_drop" ? 24u : 0u);  // two stops per limited joint
+    // two stops per limited joint
+    EXPECT_EQ(s.limits.size(), name == "chain_on_stops" ? 18u : name == "hyq_drop" ? 24u : name == "skateboard_rider" ? 12u : 0u);
     EXPECT_GT(s.duration, 0);
     EXPECT_FALSE(s.model.visuals.empty());
     for (const Surface& surf : s.surfaces) EXPECT_NEAR(surf.normal.norm(), 1.0, 1e-15);
@@ -131,6 +132,35 @@ TEST(Scenario, AFreeContactPointIsFreeAlongThePlanesAxesOfMotion) {
       EXPECT_TRUE(c.free_axes.empty()) << c.name;
     }
   EXPECT_EQ(feet, 2);
+}
+
+// The full-body Ollie's scene: the board and the biped as two parts, the biped's feet on the deck
+// at the stance the parameters give (the hip over their middle, straight legs), free along it.
+TEST(Scenario, SkateboardRiderStandsOnTheDeck) {
+  for (const auto& [back, front] : {std::pair{-0.27, 0.2}, std::pair{-0.2, 0.25}}) {
+    const Scene s = loadScene("skateboard_rider", {{"back_foot", back}, {"front_foot", front}});
+    // the board and the biped: 73 kg times its segments' mass fractions (torso, two arms, thighs
+    // and shanks; they sum to 0.9726)
+    EXPECT_NEAR(s.model.totalMass(), 2.38 + 73.0 * (0.504 + 2 * (0.0494 + 0.1416 + 0.0433)), 1e-9);
+    dynamics::Data<double> data(s.model);
+    dynamics::forwardKinematics(s.model, data, s.q0);
+    const Eigen::Vector3d deck_top(0, 0, 0.0775);  // board at rest on its wheels
+    for (const auto& [foot, x] : {std::pair{"foot_r", back}, std::pair{"foot_l", front}}) {
+      const dynamics::Frame& f = s.model.frames[s.model.frameIndex(foot)];
+      const Eigen::Vector3d p = dynamics::pointPosition(data, f.body, f.p_BF);
+      EXPECT_NEAR(p.x(), x, 1e-12) << foot;
+      EXPECT_NEAR(p.z(), deck_top.z(), 1e-12) << foot;
+    }
+    int feet = 0;
+    for (const Contact& c : s.contacts)
+      if (c.surface < 0) {
+        ++feet;
+        EXPECT_EQ(c.free_axes, (std::vector<int>{0})) << c.name;
+        EXPECT_EQ(c.plane.link, "board") << c.name;
+        EXPECT_EQ(c.friction, 1.6) << c.name;
+      }
+    EXPECT_EQ(feet, 2);
+  }
 }
 
 TEST(Scenario, BlockOnSlabStartsAtItsDropHeight) {
