@@ -88,11 +88,14 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
         // A free point, φ_c = −f·w with w affine in s: ∂φ/∂s_i = −f·e_i, e_i = ∂w/∂s_i
         // (relativeVelocityAtSlope), a function of q; its pairs with r_n and α_j are
         // −(∂f/∂r_n)·e_i and −(∂f/∂α_j)·e_i, and (s, s) is zero.
+        Vec3<Dual> f = Vec3<Dual>::Zero();  // the reaction, once for every free axis
+        if (m > 0) {
+          f = contact::planeNormal(c, data_d) * Dual(rn);
+          for (int j = 0; j < c.k(); ++j) f += contact::frictionDirection(c, data_d, j) * Dual(df_dt * x[k + 1 + j]);
+        }
         for (int i = 0; i < m; ++i) {
           const Vec3<Dual> e = contact::relativeVelocityAtSlope(c, data_d, i);
           const int row = k + 1 + c.k() + i;
-          Vec3<Dual> f = contact::planeNormal(c, data_d) * Dual(rn);
-          for (int j = 0; j < c.k(); ++j) f += contact::frictionDirection(c, data_d, j) * Dual(df_dt * x[k + 1 + j]);
           const Dual fe = f.dot(e);
           for (int col = 0; col < count; ++col) h(row, first + col) -= fe.derivatives()[col];
           if (first != 0) continue;

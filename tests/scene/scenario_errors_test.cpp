@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "saltus/build_paths.hpp"
+#include "tests/support/errors.hpp"
 
 // A namespace of its own: the test programs are unity builds, and scenario_test.cpp has helpers of
 // the same names.
@@ -19,13 +20,9 @@ const std::string kSceneDir = std::string(SALTUS_SOURCE_DIR) + "/models/scenes/"
 const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/scenes/";
 
 std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no ScenarioError thrown";
-  return "";
+  const std::string what = testing::messageOf<ScenarioError>(f);
+  if (what.empty()) ADD_FAILURE() << "no ScenarioError thrown";
+  return what;
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
