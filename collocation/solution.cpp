@@ -52,6 +52,13 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
         cs.gap = x[C.y[p]];
         cs.vn = contact::normalVelocity(cp, data, s.v.data());
         const bool impulse = impulsive && p == 0;
+        // On a body's plane: a free point's variables (where its reaction acts) at a point with a
+        // reaction, else the point's projection.
+        if (C.s[p] >= 0) {
+          for (int i = 0; i < cp.freeAxes(); ++i) cs.s[cp.free_axes[i]] = x[C.s[p] + i];
+        } else if (contact::hasExtent(cp)) {
+          cs.s = contact::planeCoordinates(cp, data);
+        }
         if (!cp.isStop()) {
           const Eigen::Matrix<double, 3, 2> T = contact::planeFrame(cp, data).tangents;
           cs.vt = T.transpose() * (C.s[p] >= 0 ? contact::relativeVelocityAt(cp, data, x.data() + C.s[p])

@@ -108,24 +108,28 @@ void bindOptimize(py::module_& m) {
             const auto& pairs = s.result.transcription->contacts();
             for (std::size_t c = 0; c < pairs.size(); ++c) {
               Eigen::VectorXd gap(samples.size()), vn(samples.size()), rn(samples.size()), pn(samples.size());
+              Eigen::MatrixXd plane(samples.size(), 2);
               for (std::size_t k = 0; k < samples.size(); ++k) {
                 const scene::ContactRow& r = samples[k].contacts[c];
                 gap[static_cast<Eigen::Index>(k)] = r.gap;
                 vn[static_cast<Eigen::Index>(k)] = r.vn;
                 rn[static_cast<Eigen::Index>(k)] = r.rn;
                 pn[static_cast<Eigen::Index>(k)] = r.pn;
+                plane.row(static_cast<Eigen::Index>(k)) = r.s.transpose();
               }
               py::dict d;
               d["gap"] = gap;
               d["vn"] = vn;
               d["rn"] = rn;
               d["pn"] = pn;
+              d["s"] = plane;
               out[py::str(pairs[c].name)] = d;
             }
             return out;
           },
           "Per contact (scene contacts, then limit stops) at the samples: gap [m], vn [m/s], the normal force "
-          "rn [N] at the collocation points and the normal impulse pn [N s] at a velocity jump.")
+          "rn [N] at the collocation points, the normal impulse pn [N s] at a velocity jump, and s [m], shape "
+          "(samples, 2): on a body's plane the contact point's plane coordinates (a free point's variables), else zero.")
       .def_property_readonly("mesh_times", [](const SolutionHandle& s) { return s.trajectory.meshTimes(); },
                              "Element boundaries [s].")
       .def(

@@ -45,6 +45,7 @@ py::dict contactDict(const timestepper::ContactReport& r) {
   d["vt"] = py::make_tuple(r.vt1, r.vt2);
   d["pn"] = r.pn;
   d["pt"] = py::make_tuple(r.pt1, r.pt2);
+  d["s"] = py::make_tuple(r.s1, r.s2);
   d["active"] = r.active;
   return d;
 }
@@ -139,7 +140,8 @@ void bindScenes(py::module_& m) {
             for (std::size_t c = 0; c < s.contacts.size(); ++c) out[py::str(s.contacts[c].name)] = contactDict(h.stepper.contacts()[c]);
             return out;
           },
-          "Per scene contact after the last step: gap [m], vn, vt [m/s], pn, pt impulses [N s], active.")
+          "Per scene contact after the last step: gap [m], vn, vt [m/s], pn, pt impulses [N s], active, and s "
+          "[m]: on a body's plane the point's plane coordinates (else zero).")
       .def_property_readonly("stats", [](const StepperHandle& h) { return statsDict(h.stepper.stats()); });
 
   py::class_<Simulation>(m, "Simulation", "A time-stepper run held in memory: one row per sample.")
@@ -163,11 +165,14 @@ void bindScenes(py::module_& m) {
               d["pn"] = h.pn;
               d["pt1"] = h.pt1;
               d["pt2"] = h.pt2;
+              d["s1"] = h.s1;
+              d["s2"] = h.s2;
               out[py::str(h.name)] = d;
             }
             return out;
           },
-          "Per contact (scene contacts, then limit stops): arrays gap [m], vn, vt1, vt2 [m/s], pn, pt1, pt2 [N s].")
+          "Per contact (scene contacts, then limit stops): arrays gap [m], vn, vt1, vt2 [m/s], pn, pt1, pt2 [N s], "
+          "s1, s2 [m] (on a body's plane the point's plane coordinates, else zero).")
       .def_property_readonly("stats", [](const Simulation& s) { return statsDict(s.summary.stats); })
       .def_property_readonly("energy_start", [](const Simulation& s) { return s.summary.energy_start; }, "[J]")
       .def_property_readonly("energy_end", [](const Simulation& s) { return s.summary.energy_end; }, "[J]")

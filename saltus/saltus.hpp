@@ -118,6 +118,7 @@ struct ContactHistory {
   std::string name;
   Eigen::VectorXd gap, vn, vt1, vt2;  // [m], [m/s] in the contact frame (vt2 = 0 when planar)
   Eigen::VectorXd pn, pt1, pt2;       // impulses over the step ending at the sample [N s]
+  Eigen::VectorXd s1, s2;             // on a body's plane: the point's plane coordinates [m] (else 0)
 };
 struct Simulation {
   SimulationSummary summary;

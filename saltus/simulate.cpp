@@ -14,7 +14,7 @@ namespace saltus {
 namespace {
 
 // A trajectory file's contact values from a stepper's report (its tangential pair along the
-// surface's tangents; the writer drops the second for a planar contact).
+// surface's tangents; the writer drops the second for a planar contact, and s off a body's plane).
 scene::ContactRow contactRow(const timestepper::ContactReport& r) {
   scene::ContactRow c;
   c.gap = r.gap;
@@ -22,6 +22,7 @@ scene::ContactRow contactRow(const timestepper::ContactReport& r) {
   c.vt = {r.vt1, r.vt2};
   c.pn = r.pn;
   c.pt = {r.pt1, r.pt2};
+  c.s = {r.s1, r.s2};
   return c;
 }
 
@@ -155,7 +156,7 @@ Simulation simulate(const scene::Scene& scene, const SimulateOptions& options) {
   for (const scene::TrajectoryLayout::ContactColumns& c : run.layout.contacts) {
     ContactHistory h;
     h.name = c.name;
-    for (Eigen::VectorXd* x : {&h.gap, &h.vn, &h.vt1, &h.vt2, &h.pn, &h.pt1, &h.pt2}) x->setZero(samples);
+    for (Eigen::VectorXd* x : {&h.gap, &h.vn, &h.vt1, &h.vt2, &h.pn, &h.pt1, &h.pt2, &h.s1, &h.s2}) x->setZero(samples);
     run.contacts.push_back(std::move(h));
   }
   Eigen::Index k = 0;
@@ -173,6 +174,8 @@ Simulation simulate(const scene::Scene& scene, const SimulateOptions& options) {
       h.pn[k] = r.pn;
       h.pt1[k] = r.pt1;
       h.pt2[k] = r.pt2;
+      h.s1[k] = r.s1;
+      h.s2[k] = r.s2;
     }
     ++k;
   });
@@ -203,6 +206,8 @@ void writeTrajectoryCsv(const std::string& path, const Simulation& simulation) {
       r.pn = h.pn[k];
       r.pt1 = h.pt1[k];
       r.pt2 = h.pt2[k];
+      r.s1 = h.s1[k];
+      r.s2 = h.s2[k];
       writer.contact(contactRow(r));
     }
     writer.endRow();

@@ -16,7 +16,11 @@ TrajectoryLayout trajectoryLayout(const Scene& scene) {
   TrajectoryLayout layout;
   layout.coordinates = scene.model.coordinate_name;
   layout.positions = scene.model.position_name;
-  for (const Contact& c : scene.contacts) layout.contacts.push_back({c.name, c.directions > 2});
+  for (const Contact& c : scene.contacts) {
+    const bool spatial = c.directions > 2;
+    const int axes = c.surface >= 0 ? 0 : !c.free_axes.empty() ? static_cast<int>(c.free_axes.size()) : spatial ? 2 : 1;
+    layout.contacts.push_back({c.name, spatial, axes});
+  }
   for (const LimitStop& l : scene.limits) layout.contacts.push_back({l.name, false});
   return layout;
 }
@@ -45,6 +49,11 @@ std::vector<std::string> trajectoryHeader(const TrajectoryLayout& layout) {
     }
     names.push_back(p + "pn");
     tangential("pt");
+    if (c.plane_axes == 1) names.push_back(p + "s");
+    if (c.plane_axes == 2) {
+      names.push_back(p + "s1");
+      names.push_back(p + "s2");
+    }
   }
   return names;
 }
@@ -74,7 +83,8 @@ void TrajectoryCsvWriter::beginRow(double t, const Eigen::VectorXd& q, const Eig
 void TrajectoryCsvWriter::contact(const ContactRow& c) {
   if (next_contact_ >= layout_.contacts.size())
     throw std::invalid_argument(file_.path() + ": more contacts in a trajectory row than in its header");
-  const bool spatial = layout_.contacts[next_contact_++].spatial;
+  const TrajectoryLayout::ContactColumns& columns = layout_.contacts[next_contact_++];
+  const bool spatial = columns.spatial;
   std::FILE* const f = file_.stream();
   auto tangential = [&](const Eigen::Vector2d& x) {
     std::fprintf(f, ",%.12g", x[0]);
@@ -88,6 +98,7 @@ void TrajectoryCsvWriter::contact(const ContactRow& c) {
   }
   std::fprintf(f, ",%.12g", c.pn);
   tangential(c.pt);
+  for (int i = 0; i < columns.plane_axes; ++i) std::fprintf(f, ",%.12g", c.s[i]);
 }
 
 void TrajectoryCsvWriter::endRow() {

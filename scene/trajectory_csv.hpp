@@ -4,11 +4,16 @@
 //   t, q.<position coordinate>…, v.<coordinate>…, u.<input coordinate>… (inputs: the optimiser's),
 //   then
 //   per contact (scene contacts, then limit stops)
-//   contact.<name>.gap, .vn, .vt, [.rn, .rt,] .pn, .pt
+//   contact.<name>.gap, .vn, .vt, [.rn, .rt,] .pn, .pt[, .s]
 // A spatial contact (more than two friction directions) has two columns for each tangential
 // quantity (.vt1 .vt2, .rt1 .rt2, .pt1 .pt2), along its surface's tangents. rn and rt are finite
 // forces [N] (the optimiser's collocation points; zero where a row has none); pn and pt impulses
 // [N s] (the time-stepper's over the step that ended at t, the optimiser's at a velocity jump).
+// A contact on a plane fixed in a body (a foot on a deck) has the contact point's coordinates in
+// that plane, s [m] along its tangent t1 (.s), or along t1 and t2 (.s1 .s2) when the optimiser's
+// point is free along both or the contact is spatial: the optimiser's variable for a free point
+// at a point with a reaction (where the reaction acts), otherwise the point's projection onto the
+// plane (what the extent bounds).
 // Numbers are written as %.12g. The file is written through scene::AtomicFile: it appears whole
 // on commit(), or not at all. readTrajectoryCsv reads any such file back, by column name.
 #pragma once
@@ -29,6 +34,7 @@ struct TrajectoryLayout {
   struct ContactColumns {
     std::string name;
     bool spatial = false;  // vt1/vt2 (rt1/rt2, pt1/pt2) instead of vt (rt, pt)
+    int plane_axes = 0;    // 0: not on a body's plane; 1: the .s column; 2: .s1 and .s2
   };
   std::vector<std::string> coordinates;  // velocity coordinates: the v. columns
   std::vector<std::string> positions;    // the q. columns (model.position_name); empty: as coordinates
@@ -37,14 +43,17 @@ struct TrajectoryLayout {
   bool forces = false;  // rn and rt columns
 };
 
-// The scene's coordinates and contacts (then its limit stops), no inputs, no force columns.
+// The scene's coordinates and contacts (then its limit stops), no inputs, no force columns. A
+// contact on a body's plane has plane_axes: its free axes' count when its point is free, else 2
+// when spatial, else 1.
 TrajectoryLayout trajectoryLayout(const Scene& scene);
 
 // The header's column names, in order.
 std::vector<std::string> trajectoryHeader(const TrajectoryLayout& layout);
 
 // One contact's values in a row (the tangential ones along the surface's tangents; the second
-// of each pair is written for spatial contacts only, rn and rt only with force columns).
+// of each pair is written for spatial contacts only, rn and rt only with force columns, s on a
+// body's plane only).
 struct ContactRow {
   double gap = 0, vn = 0;
   Eigen::Vector2d vt = Eigen::Vector2d::Zero();
@@ -52,6 +61,7 @@ struct ContactRow {
   Eigen::Vector2d rt = Eigen::Vector2d::Zero();
   double pn = 0;
   Eigen::Vector2d pt = Eigen::Vector2d::Zero();
+  Eigen::Vector2d s = Eigen::Vector2d::Zero();  // plane coordinates on a body's plane [m]
 };
 
 class TrajectoryCsvWriter {

@@ -348,6 +348,11 @@ bool TimeStepper::measureContacts() {
       r.vt2 = v_frame[2];
     }
     r.over_plane = contact::withinExtent(pair, data_);
+    if (contact::hasExtent(pair)) {
+      const Eigen::Vector2d s = contact::planeCoordinates(pair, data_);
+      r.s1 = s[0];
+      r.s2 = s[1];
+    }
     if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;
     double& largest = pair.isStop() ? stats_.max_stop_penetration : stats_.max_penetration;  // rad or m / m

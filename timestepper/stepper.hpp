@@ -114,6 +114,7 @@ struct ContactReport {
   bool active = false;
   bool over_plane = true;  // the point is over its plane's extent (always, on a world surface or a stop)
   double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
+  double s1 = 0, s2 = 0;  // on a body's plane: the point's plane coordinates (contact::planeCoordinates) [m]
 };
 
 struct StepperStats {

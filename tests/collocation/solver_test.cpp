@@ -236,7 +236,12 @@ TEST(Solver, ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt) {
   const Transcription on(stays_on, Method::Impulsive);
   const SolveReport stays = solve(on, makeSeeding(on).seed, SolveOptions{});
   ASSERT_TRUE(stays.feasible) << stays.stages.back().status;
-  for (const Sample& r : trajectory(on, stays.x)) EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
+  for (const Sample& r : trajectory(on, stays.x)) {
+    EXPECT_LE(std::abs(r.q[1] - r.q[0]), 0.5 + 1e-9) << "t = " << r.t;
+    // The trajectory's plane coordinates: the block's place on the deck (the cart's origin, t1 = x).
+    EXPECT_NEAR(r.contacts[0].s[0], r.q[1] - r.q[0], 1e-12) << "t = " << r.t;
+    EXPECT_EQ(r.contacts[0].s[1], 0.0) << "t = " << r.t;
+  }
 }
 
 // A contact point free along the deck (ContactPair::free_axes): block_on_cart's block (no force
@@ -275,14 +280,27 @@ TEST(Solver, AFreeContactPointLandsFromBeyondTheDeckAndFollowsTheSlide) {
       const double s = report.x[C.s[k]], rn = report.x[C.rn[k]];
       const double along = report.x[L.points[k].q + 1] - report.x[L.points[k].q];
       EXPECT_LE(rn * std::abs(s - along), p.complementarity_tolerance) << "element " << n + 1 << ", point " << k;
-      if (k > 0) EXPECT_NEAR(s, along, 1e-6) << "element " << n + 1 << ", point " << k;
+      if (k > 0) {
+        EXPECT_NEAR(s, along, 1e-6) << "element " << n + 1 << ", point " << k;
+      }
       if (std::isnan(s_first)) s_first = s;
       s_last = s;
     }
   }
   EXPECT_NEAR(s_first, x_land, 2e-3);
   EXPECT_NEAR(s_last, s_rest, 2e-3);
-  const Sample end = trajectory(t, report.x).back();
+  // The trajectory's plane coordinate (its .s column) is the free point's variable, where the
+  // reaction acts, at the points that have one (those with a reaction); elsewhere the block's place
+  // on the deck.
+  const std::vector<Sample> samples = trajectory(t, report.x);
+  int with_variable = 0;
+  for (const Sample& r : samples) {
+    const int s_index = t.layout()[r.element].contacts[0].s[r.point];
+    with_variable += s_index >= 0;
+    EXPECT_EQ(r.contacts[0].s[0], s_index >= 0 ? report.x[s_index] : r.q[1] - r.q[0]) << "t = " << r.t;
+  }
+  EXPECT_GT(with_variable, static_cast<int>(samples.size()) / 2);
+  const Sample end = samples.back();
   EXPECT_NEAR(end.v[0], v_together, 1e-6);
   EXPECT_NEAR(end.v[1], v_together, 1e-6);
   EXPECT_NEAR(end.q[1] - end.q[0], s_rest, 2e-3);

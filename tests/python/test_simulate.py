@@ -38,6 +38,17 @@ def test_a_control_loop_closed_in_python_holds_the_ball():
     assert stepper.contacts[stepper.scene.contact_names[0]]["gap"] > 0.4
 
 
+def test_a_point_on_a_bodys_plane_reports_its_place_on_it():
+    # block_on_cart: the block on the cart's top (its origin, t1 = x): s1 = block_x - cart_x.
+    r = saltus.simulate("block_on_cart", dt=1e-3, duration=0.5)
+    deck = r.contacts["block_on_deck"]
+    np.testing.assert_allclose(deck["s1"], r.q[:, 1] - r.q[:, 0], atol=1e-12)
+    assert np.all(deck["s2"] == 0) and np.ptp(deck["s1"]) > 0.1
+    stepper = saltus.Stepper("block_on_cart", dt=1e-3)
+    stepper.step(100)
+    assert stepper.contacts["block_on_deck"]["s"][0] == pytest.approx(stepper.q[1] - stepper.q[0], abs=1e-12)
+
+
 @pytest.mark.parametrize("scene", ["ball_drop", "block_slide", "pendulum_conveyor", "painleve_rod", "block_on_cart",
                                    "block_on_slab", "rocking_block", "newtons_cradle", "box_on_corners", "chain_on_stops",
                                    "fast_spin", "hyq_drop", "box_stack", "skateboard"])

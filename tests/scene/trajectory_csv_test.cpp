@@ -4,12 +4,15 @@
 // file naming its line and column.
 #include "scene/trajectory_csv.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+
+#include "scene/scenario.hpp"
 
 namespace saltus::scene {
 namespace {
@@ -85,6 +88,35 @@ TEST_F(TrajectoryCsvTest, HeaderAndRowsOfAnOptimisersFile) {
                                    0.1, 0.2, 7, 0, 0, 0.3, 0};
   ASSERT_EQ(lines[1].size(), row.size());
   for (std::size_t i = 0; i < row.size(); ++i) EXPECT_EQ(std::stod(lines[1][i]), row[i]) << header[i];
+}
+
+// A contact on a plane fixed in a body has the point's plane coordinates: .s on the skateboard's
+// planar feet (free along the deck), nothing on its wheels (on the world's ground).
+TEST_F(TrajectoryCsvTest, APointOnABodysPlaneHasItsPlaneCoordinates) {
+  const Scene board = loadScene("skateboard");
+  const TrajectoryLayout layout = trajectoryLayout(board);
+  const std::vector<std::string> names = trajectoryHeader(layout);
+  auto has = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  EXPECT_TRUE(has("contact.back_foot.s"));
+  EXPECT_TRUE(has("contact.front_foot.s"));
+  EXPECT_FALSE(has("contact.rear_wheel.s"));
+  EXPECT_FALSE(has("contact.tail.s"));
+  const fs::path path = dir_ / "feet.csv";
+  TrajectoryCsvWriter writer(path.string(), layout);
+  writer.beginRow(0, board.q0, board.v0, Eigen::VectorXd());
+  for (std::size_t c = 0; c < layout.contacts.size(); ++c) {
+    ContactRow r;
+    r.s = {0.125 * static_cast<double>(c), 9};  // a planar contact writes the first only
+    writer.contact(r);
+  }
+  writer.endRow();
+  writer.commit();
+  const TrajectoryTable table = readTrajectoryCsv(path.string());
+  ASSERT_EQ(table.names(), names);
+  for (std::size_t c = 0; c < layout.contacts.size(); ++c) {
+    if (layout.contacts[c].plane_axes == 0) continue;
+    EXPECT_EQ(table.values("contact." + layout.contacts[c].name + ".s"), std::vector<double>{0.125 * static_cast<double>(c)});
+  }
 }
 
 TEST_F(TrajectoryCsvTest, AStepperFileHasNoForceColumnsAndKeepsTwelveDigits) {

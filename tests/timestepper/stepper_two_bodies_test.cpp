@@ -55,13 +55,19 @@ TEST(StepperTwoBodies, BlockLeavesTheDeckAtItsEndAndFalls) {
   const double M = 4, m = 1, mu = 0.4, F = 30, deck = 0.5, dt = 1e-4;
   const double a_rel = (F - mu * m * kGravity) / M - mu * kGravity, t_off = std::sqrt(2 * deck / a_rel);
   TimeStepper sim(scene::loadScene("block_on_cart"), twoBodyOptions(dt));
-  double t_left = -1;
+  double t_left = -1, s_left = 0, largest_s_error = 0;
   while (sim.time() < 1.0 - 1e-12) {
     sim.step();
-    if (t_left < 0 && !sim.contacts()[0].over_plane) t_left = sim.time();
+    // The report's plane coordinates: the block's place on the deck (the cart's origin, t1 = x).
+    largest_s_error = std::max({largest_s_error, std::abs(sim.contacts()[0].s1 - (sim.q()[1] - sim.q()[0])),
+                                std::abs(sim.contacts()[0].s2)});
+    if (t_left < 0 && !sim.contacts()[0].over_plane) t_left = sim.time(), s_left = sim.contacts()[0].s1;
   }
   ASSERT_GT(t_left, 0) << "the block never left the deck";
   EXPECT_NEAR(t_left, t_off, 2 * dt);
+  EXPECT_LT(largest_s_error, 1e-12);
+  EXPECT_LT(s_left, -deck);  // beyond the rear end: touches nothing
+  EXPECT_GT(s_left, -deck - 2 * a_rel * t_off * dt);
   const double fall = 1.0 - t_off;
   EXPECT_NEAR(sim.q()[2], -0.5 * kGravity * fall * fall, 2 * kGravity * dt);  // free fall from the deck's height
   EXPECT_NEAR(sim.v()[1], mu * kGravity * t_off, 2 * mu * kGravity * dt);     // no more friction: x velocity kept
