@@ -181,11 +181,16 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   r.hessian_evaluations = nlp->hessianEvaluations();
   x_out = nlp->solution().size() == t.variables() ? nlp->solution() : x0;
   multipliers_out = nlp->multipliers();
-  r.objective = nlp->solution().size() == t.variables() ? nlp->objective() : 0;
+  // Evaluated here: Ipopt 3.11 hands finalize_solution an objective of 0 when it stops on its
+  // CPU-time limit.
+  r.objective = nlp->solution().size() == t.variables() ? nlp->cost(x_out) : 0;
   const auto measure = [&] {
     r.largest_product = t.largestProduct(x_out, &r.largest_product_at);
     const Eigen::VectorXd g = nlp->constraints(x_out);
-    r.largest_violation = std::max({0.0, (t.constraintLower() - g).maxCoeff(), (g - t.constraintUpper()).maxCoeff()});
+    const Eigen::VectorXd off = (t.constraintLower() - g).cwiseMax(g - t.constraintUpper());
+    Eigen::Index at = 0;
+    r.largest_violation = off.size() > 0 ? std::max(0.0, off.maxCoeff(&at)) : 0.0;
+    r.largest_violation_at = r.largest_violation > 0 ? t.constraintNames()[static_cast<std::size_t>(at)] : "";
     // Eigen's maxCoeff passes over NaN: a point that is not finite is nowhere near feasible.
     if (!x_out.allFinite() || !g.allFinite()) r.largest_violation = std::numeric_limits<double>::infinity();
     if (!std::isfinite(r.largest_product)) r.largest_product = std::numeric_limits<double>::infinity();
@@ -286,6 +291,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   const StageReport& end = report.stages[kept];
   report.largest_product = t.largestProduct(x, &report.largest_product_at);
   report.largest_violation = end.largest_violation;
+  report.largest_violation_at = end.largest_violation_at;
   report.objective = end.objective;
   // A kept feasibility-stage point of a task problem: its task-stage objective (the task cost and
   // the weighted penalty), comparable with a task stage's.

@@ -36,6 +36,7 @@ struct StageReport {
   double largest_product = 0;
   std::string largest_product_at;  // the product's constraint name
   double largest_violation = 0;   // of a constraint's bounds (before the products' ε), at its end
+  std::string largest_violation_at;  // that constraint's name (empty when every bound holds)
   double wall_seconds = 0;
   double evaluation_seconds = 0;  // in our function and derivative callbacks
   bool exact_hessian = true;      // false: Ipopt's limited-memory quasi-Newton (Problem)
@@ -67,6 +68,7 @@ struct SolveReport {
   double largest_product = 0;
   std::string largest_product_at;  // the product's constraint name (e.g. "impact.ball[10,0]")
   double largest_violation = 0;    // of a constraint's bounds at x
+  std::string largest_violation_at;  // that constraint's name (e.g. "defect.q.board_z[12,1]"; empty: none)
   double objective = 0;   // the objective of the stage x comes from
   double wall_seconds = 0, evaluation_seconds = 0;
   int iterations = 0;

@@ -119,6 +119,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["largest_product"] = r.largest_product;
   j["largest_product_at"] = r.largest_product_at;
   j["largest_violation"] = r.largest_violation;
+  j["largest_violation_at"] = r.largest_violation_at;
   j["complementarity_tolerance"] = problem.complementarity_tolerance;
   j["iterations"] = r.iterations;
   j["wall_seconds"] = r.wall_seconds;
@@ -139,6 +140,7 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"objective", s.objective},
                            {"largest_product", s.largest_product},
                            {"largest_violation", s.largest_violation},
+                           {"largest_violation_at", s.largest_violation_at},
                            {"wall_seconds", s.wall_seconds},
                            {"evaluation_seconds", s.evaluation_seconds},
                            {"hessian", s.exact_hessian ? "exact" : "limited-memory"},

@@ -281,6 +281,25 @@ TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {
   EXPECT_EQ(n.stages.back().status, "Maximum_Iterations_Exceeded");
   EXPECT_FALSE(n.feasible) << "largest product " << n.largest_product;
   EXPECT_FALSE(n.converged);
+  // The constraint furthest outside its bounds is named, here and in its stage's report: checked
+  // against the constraints evaluated again at the point.
+  const Eigen::VectorXd g = Nlp(t, Stage::Feasibility, n.x).constraints(n.x);
+  const Eigen::VectorXd off = (t.constraintLower() - g).cwiseMax(g - t.constraintUpper());
+  Eigen::Index worst = 0;
+  ASSERT_GT(off.maxCoeff(&worst), 1e-3);  // the null seed's velocities ignore gravity
+  EXPECT_EQ(n.largest_violation, off[worst]);
+  EXPECT_EQ(n.largest_violation_at, t.constraintNames()[static_cast<std::size_t>(worst)]);
+  EXPECT_EQ(n.stages.back().largest_violation_at, n.largest_violation_at);
+  EXPECT_LE(r.largest_violation, o.violation_tolerance);
+  // A stage stopped by its CPU-time limit reports the objective at its end point (Ipopt 3.11
+  // hands over 0 then).
+  SolveOptions timed = cut;
+  timed.ipopt = {{"max_cpu_time", "1e-9"}};
+  const SolveReport c = solve(t, t.nullSeed(), timed);
+  EXPECT_EQ(c.stages.back().status, "Maximum_CpuTime_Exceeded");
+  const double penalty = Nlp(t, Stage::Feasibility, c.x).cost(c.x);
+  EXPECT_GT(penalty, 0);
+  EXPECT_EQ(c.stages.back().objective, penalty);
 }
 
 }  // namespace
