@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <random>
@@ -157,6 +158,31 @@ TEST_F(ModelSection, AFixedPartHasOnlyItsJointsCoordinates) {
   ASSERT_EQ(s.model.nv(), arm.nv() + 3);
   for (int k = 0; k < arm.nv(); ++k) EXPECT_EQ(s.model.coordinate_name[k], arm.coordinate_name[k]);
   EXPECT_EQ(s.model.coordinate_name[arm.nv()], "block_x");
+}
+
+// A part's URDF names its meshes relative to its own folder; in the scene (whose source is the
+// scene file, in another folder) they become absolute paths into that folder. A URL
+// (package://...) and an absolute path are kept as they are.
+TEST_F(ModelSection, APartsRelativeMeshPathsAreResolvedInItsUrdfsFolder) {
+  fs::create_directories(dir_ / "robot");
+  const std::string inertial =
+      "<inertial><mass value=\"1\"/><inertia ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"/></inertial>";
+  auto mesh = [](const std::string& file) { return "<visual><geometry><mesh filename=\"" + file + "\"/></geometry></visual>"; };
+  std::ofstream(dir_ / "robot" / "arm.urdf")
+      << "<robot name=\"arm\"><link name=\"base\">" << inertial << mesh("meshes/../meshes/base.stl")
+      << "</link><link name=\"arm\">" << inertial << mesh("package://arm_description/arm.stl") << mesh("/opt/meshes/hand.stl")
+      << "</link><joint name=\"shoulder\" type=\"revolute\"><parent link=\"base\"/><child link=\"arm\"/>"
+         "<axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/></joint></robot>";
+  const Scene s = load("model:\n  parts:\n    - {name: arm, urdf: robot/arm.urdf}\n");
+  std::vector<std::string> meshes;
+  for (const dynamics::Visual& v : s.model.visuals)
+    if (v.shape == dynamics::Visual::Shape::Mesh) meshes.push_back(v.mesh_file);
+  const std::string base = (dir_ / "robot" / "meshes" / "base.stl").lexically_normal().string();
+  std::vector<std::string> expected = {base, "package://arm_description/arm.stl", "/opt/meshes/hand.stl"};
+  std::sort(meshes.begin(), meshes.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(meshes, expected);
+  EXPECT_TRUE(fs::path(base).is_absolute());
 }
 
 // A part of one rigid body on an Euler base, and a URDF part welded to the world (its root is not
