@@ -75,8 +75,17 @@ class Nlp : public Ipopt::TNLP {
                              Ipopt::Index ls_trials, const Ipopt::IpoptData* ip_data,
                              Ipopt::IpoptCalculatedQuantities* ip_cq) override {
     iteration_ = iter;
+    if (stop_when_feasible_ && hasBestFeasible()) {
+      stopped_feasible_ = true;
+      return false;
+    }
     return !(interrupted_ && interrupted_());
   }
+  // With keepBestFeasible: stop at the first iteration after a feasible point was evaluated (the
+  // tightening stage, whose only aim is such a point). Ipopt then returns User_Requested_Stop,
+  // and stoppedAtFeasible() says why.
+  void stopWhenFeasible() { stop_when_feasible_ = true; }
+  bool stoppedAtFeasible() const { return stopped_feasible_; }
 
   // Keeps, among the points at which Ipopt evaluates the constraints (iterates and line-search
   // trials alike), the one of lowest objective whose products are within `product_tolerance`
@@ -118,6 +127,7 @@ class Nlp : public Ipopt::TNLP {
   double eval_seconds_ = 0;
   int hessian_evaluations_ = 0;
   int iteration_ = -1;  // of the last intermediate callback
+  bool stop_when_feasible_ = false, stopped_feasible_ = false;
   double best_product_tolerance_ = -1, best_violation_tolerance_ = -1;  // < 0: not kept
   Eigen::VectorXd best_x_;
   double best_objective_ = 0;

@@ -82,7 +82,11 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_GT(near.largest_product, p.complementarity_tolerance);
   EXPECT_LE(near.largest_product, 10 * p.complementarity_tolerance);
 
-  expectTightenedDrop(t, solve(t, seeding.seed, SolveOptions{}));
+  const SolveReport tightened = solve(t, seeding.seed, SolveOptions{});
+  expectTightenedDrop(t, tightened);
+  // Without a task stage to polish its point, the tightening stage converges (Ipopt's tolerance
+  // makes the free fall exact to 1e-6).
+  EXPECT_EQ(tightened.stages[1].status, "Solve_Succeeded");
 
   // With a task cost the tightened point is where the task stage starts; without tightening
   // it would start off the constraints (its ε bounded below the near miss's products). With the
@@ -99,6 +103,13 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_EQ(c.stages[1].name, "tighten");
   EXPECT_EQ(c.stages[2].name, "task");
   EXPECT_LE(c.stages[1].largest_product, p.complementarity_tolerance);
+  // With the task stage to follow, the tightening stage stops at its first feasible point (an
+  // iterate or a trial of its last iteration), and that is not an interruption.
+  EXPECT_EQ(c.stages[1].status, "Stopped_At_Feasible_Point");
+  if (c.stages[1].kept_iteration >= 0) {
+    EXPECT_LE(c.stages[1].iterations, c.stages[1].kept_iteration + 1);
+  }
+  EXPECT_FALSE(c.interrupted);
   EXPECT_TRUE(c.converged) << c.stages[2].status << ": " << c.note;
   EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
 }
