@@ -25,6 +25,7 @@
 #include "dynamics/kinematics.hpp"
 #include "scene/scenario.hpp"
 #include "scene/yaml_reader.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::collocation {
 namespace {
@@ -35,15 +36,8 @@ const std::string kProblemDir = std::string(SALTUS_SOURCE_DIR) + "/models/proble
 const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/problems/";
 constexpr double kPi = std::numbers::pi;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no ScenarioError thrown";
-  return "";
-}
+// The ScenarioError message of f, or a test failure.
+std::string errorOf(const std::function<void()>& f) { return testing::expectedMessageOf<ScenarioError>(f); }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -16,6 +16,7 @@
 
 #include "dynamics/dynamics.hpp"
 #include "saltus/build_paths.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::dynamics {
 namespace {
@@ -24,15 +25,7 @@ const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/urdf/
 const std::string kModelDir = std::string(SALTUS_SOURCE_DIR) + "/models/";
 
 // The ModelError message of f, or a test failure.
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ModelError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no ModelError thrown";
-  return "";
-}
+std::string errorOf(const std::function<void()>& f) { return testing::expectedMessageOf<ModelError>(f); }
 
 // Error of loading a fixture: the message must start with the file's path.
 std::string loadError(const std::string& fixture, BaseType base = BaseType::Fixed) {

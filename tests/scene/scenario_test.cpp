@@ -16,6 +16,7 @@
 #include "dynamics/data.hpp"
 #include "dynamics/kinematics.hpp"
 #include "saltus/build_paths.hpp"
+#include "tests/support/errors.hpp"
 
 namespace saltus::scene {
 namespace {
@@ -24,15 +25,8 @@ const std::string kSceneDir = std::string(SALTUS_SOURCE_DIR) + "/models/scenes/"
 const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/scenes/";
 constexpr double kPi = std::numbers::pi;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no ScenarioError thrown";
-  return "";
-}
+// The ScenarioError message of f, or a test failure.
+std::string errorOf(const std::function<void()>& f) { return testing::expectedMessageOf<ScenarioError>(f); }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

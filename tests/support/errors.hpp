@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <gtest/gtest.h>
+
 namespace saltus::testing {
 
 // The message of the exception of type E a call throws ("" when it throws none).
@@ -16,6 +18,19 @@ std::string messageOf(const std::function<void()>& f) {
   } catch (const E& e) {
     return e.what();
   }
+  return "";
+}
+
+// The same, and a test failure when the call throws nothing (for checks of bad input that must
+// be refused).
+template <class E>
+std::string expectedMessageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no exception of the expected type thrown";
   return "";
 }
 
