@@ -107,10 +107,12 @@ inline bool hasExtent(const ContactPair& pair) { return !pair.isStop() && pair.b
 
 // Whether the contact point lies over the plane's rectangle (always, for a world plane or a
 // stop): |s_i| ≤ extent_i (planeCoordinates). A point beyond it touches nothing.
+// The same test for plane coordinates s already computed (planeCoordinates).
+inline bool withinExtent(const ContactPair& pair, const Eigen::Vector2d& s) {
+  return !hasExtent(pair) || (std::abs(s[0]) <= pair.extent[0] && std::abs(s[1]) <= pair.extent[1]);
+}
 inline bool withinExtent(const ContactPair& pair, const dynamics::Data<double>& data) {
-  if (!hasExtent(pair)) return true;
-  const Eigen::Vector2d s = planeCoordinates(pair, data);
-  return std::abs(s[0]) <= pair.extent[0] && std::abs(s[1]) <= pair.extent[1];
+  return !hasExtent(pair) || withinExtent(pair, Eigen::Vector2d(planeCoordinates(pair, data)));
 }
 
 // Relative velocity of the contact point of a point on a plane, in world coordinates, of the

@@ -347,11 +347,12 @@ bool TimeStepper::measureContacts() {
       r.vt1 = v_frame[1];
       r.vt2 = v_frame[2];
     }
-    r.over_plane = contact::withinExtent(pair, data_);
+    r.over_plane = true;
     if (contact::hasExtent(pair)) {
       const Eigen::Vector2d s = contact::planeCoordinates(pair, data_);
       r.s1 = s[0];
       r.s2 = s[1];
+      r.over_plane = contact::withinExtent(pair, s);
     }
     if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;

@@ -85,7 +85,7 @@ TEST(UrdfErrors, MissingFile) {
 }
 
 TEST(UrdfErrors, AFolderOrADeviceIsNotRead) {  // /dev/zero would be read for ever
-  for (const std::string path : {kDataDir, std::string("/dev/zero")}) {
+  for (const std::string& path : {std::string(kDataDir), std::string("/dev/zero")}) {
     const std::string what = errorOf([&] { readUrdfFile(path); });
     EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
     EXPECT_HAS(what, path == kDataDir ? "is a folder" : "not a regular file");

@@ -10,14 +10,17 @@
 
 namespace saltus::testing {
 
-// The message of the exception of type E a call throws ("" when it throws none).
+// The message of the exception of type E a call throws ("" when it throws none); `thrown`, when
+// given, says whether it threw.
 template <class E>
-std::string messageOf(const std::function<void()>& f) {
+std::string messageOf(const std::function<void()>& f, bool* thrown = nullptr) {
+  if (thrown != nullptr) *thrown = true;
   try {
     f();
   } catch (const E& e) {
     return e.what();
   }
+  if (thrown != nullptr) *thrown = false;
   return "";
 }
 
@@ -25,22 +28,14 @@ std::string messageOf(const std::function<void()>& f) {
 // be refused).
 template <class E>
 std::string expectedMessageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no exception of the expected type thrown";
-  return "";
+  bool thrown = false;
+  std::string message = messageOf<E>(f, &thrown);
+  if (!thrown) ADD_FAILURE() << "no exception of the expected type thrown";
+  return message;
 }
 
 inline std::string invalidArgumentOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
+  return messageOf<std::invalid_argument>(f);
 }
 
 }  // namespace saltus::testing
