@@ -64,6 +64,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
     }
   }
   options.seed_from = opt.seed_from;
+  options.seed_inputs = opt.seed_inputs;
   options.seed_scale = opt.seed_scale;
   options.restarts = opt.restarts;
   const auto hessian = [](const std::string& flag, const std::string& kind, std::optional<bool>& exact) {
@@ -171,6 +172,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "initial guess: null, perturbed (the null guess plus random values), simulation (the time-stepper's "
                   "motion, mesh on its impacts) or perturbed-simulation (plus random values)");
   app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
+  app->add_option("--seed-inputs", opt->seed_inputs,
+                  "an input schedule (CSV: t and a u.<input> column per input, held from each row to the next; the "
+                  "last row's time is the horizon) that drives the simulation seed in place of zero inputs");
   app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
   app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");
   app->add_option("--tighten-within", opt->tighten_within,

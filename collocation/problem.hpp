@@ -126,6 +126,10 @@ struct Problem {
   int restarts = 2;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
   std::string seed_solution_origin;  // where it was given (file:line: solve.seed_solution, or --seed-from)
+  // An open-loop input schedule that drives a simulation seed (input_schedule.hpp; empty: the
+  // inputs at zero), and where it was given (file:line: solve.seed_inputs, or --seed-inputs).
+  std::string seed_inputs;
+  std::string seed_inputs_origin;
   // Ipopt's Hessian of the Lagrangian: exact (second derivatives by AD) or false: its
   // limited-memory quasi-Newton approximation (no second derivatives, a positive definite
   // matrix: no inertia correction). exact_hessian is the task stage's,

@@ -439,7 +439,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "restarts", "hessian", "feasibility_hessian", "derivative_check"},
+               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -471,6 +471,12 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
     p_.seed_solution = path.lexically_normal().string();
     p_.seed_solution_origin = origin(s) + ": solve.seed_solution";
+  }
+  if (const YAML::Node s = node["seed_inputs"]; s.IsDefined()) {
+    fs::path path = r_.text(s, "solve.seed_inputs");
+    if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
+    p_.seed_inputs = path.lexically_normal().string();
+    p_.seed_inputs_origin = origin(s) + ": solve.seed_inputs";
   }
   if (p_.seed_kind == SeedKind::Solution && p_.seed_solution.empty())
     r_.fail(node, "solve.seed_solution",

@@ -1,8 +1,10 @@
 #include "collocation/seeding.hpp"
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
+#include "collocation/input_schedule.hpp"
 #include "collocation/saved_solution.hpp"
 
 namespace saltus::collocation {
@@ -12,11 +14,25 @@ Seeding makeSeeding(const Transcription& t) {
   Seeding s;
   auto base = std::make_shared<Eigen::VectorXd>();
   SeedKind kind = p.seed_kind;
+  const bool simulation = kind == SeedKind::Simulation || kind == SeedKind::PerturbedSimulation;
+  // The schedule is read before the simulation: a bad file is an error, not a fallback.
+  std::optional<InputSchedule> schedule;
+  if (!p.seed_inputs.empty()) {
+    const std::string where = p.seed_inputs_origin.empty() ? "" : p.seed_inputs_origin + ": ";
+    if (!simulation)
+      throw std::invalid_argument(where + "an input schedule drives a simulation seed (simulation or "
+                                  "perturbed-simulation); the seed is '" + std::string(toString(kind)) + "'");
+    try {
+      schedule = readInputSchedule(p.seed_inputs, p);
+    } catch (const InputScheduleError& e) {
+      throw InputScheduleError(where + e.what());
+    }
+  }
   switch (p.seed_kind) {
     case SeedKind::Simulation:
     case SeedKind::PerturbedSimulation:
       try {
-        *base = seedFromSimulation(t, &s.simulation);
+        *base = seedFromSimulation(t, &s.simulation, schedule ? &*schedule : nullptr);
       } catch (const std::runtime_error& e) {
         s.fallback = std::string(e.what()) + "; started from the null seed";
         *base = t.nullSeed();

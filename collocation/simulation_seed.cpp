@@ -118,7 +118,11 @@ class ModeTracker {
   std::vector<long> since_;
 };
 
-Simulated simulate(const scene::Scene& scene, double dt, double duration) {
+// With a schedule, step k is driven by the scene's constant input plus the schedule's inputs at
+// its middle, (k + ½) dt, on the problem's actuated coordinates: a change within a step acts from
+// the nearer of its ends, and one on a step's end from that end, whatever the rounding of k dt.
+Simulated simulate(const scene::Scene& scene, double dt, double duration, const Problem& p,
+                   const InputSchedule* schedule = nullptr) {
   timestepper::StepperOptions o;
   o.dt = dt;
   o.theta = 0.5;
@@ -133,7 +137,16 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration) {
   std::vector<timestepper::ContactReport> start = stepper.contacts();  // before step k
   ModeTracker modes(scene);
   try {
+    const int nv = scene.model.nv();
+    const Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
+    Eigen::VectorXd tau(nv);
     for (long k = 0; k < K; ++k) {
+      if (schedule) {
+        const Eigen::VectorXd& u = schedule->at((static_cast<double>(k) + 0.5) * dt);
+        tau = tau_base;
+        for (std::size_t i = 0; i < p.inputs.size(); ++i) tau[p.inputs[i]] += u[static_cast<Eigen::Index>(i)];
+        stepper.setInput(tau);
+      }
       stepper.step();
       s.q.push_back(stepper.q());
       s.v.push_back(stepper.v());
@@ -205,10 +218,11 @@ std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> e
   return h;
 }
 
-// The uniform element length the simulation starts from (see the header).
-double initialElementLength(const Problem& p) {
+// The uniform element length the simulation starts from (see the header); a schedule's horizon
+// (> 0) in place of the middle of the bounds.
+double initialElementLength(const Problem& p, double horizon = 0) {
   const double h_min = p.h_min_ratio * p.h_max, h_max = p.h_max;
-  double h0 = 0.5 * (h_min + h_max);
+  double h0 = horizon > 0 ? horizon / p.N : 0.5 * (h_min + h_max);
   if (p.total_time_kind == TotalTime::Equal) h0 = p.total_time / p.N;
   if (p.total_time_kind == TotalTime::AtLeast) h0 = std::max(h0, p.total_time / p.N);
   return std::clamp(h0, h_min, h_max);
@@ -216,11 +230,11 @@ double initialElementLength(const Problem& p) {
 
 }  // namespace
 
-Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report) {
+Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report, const InputSchedule* schedule) {
   const Problem& p = t.problem();
   const int N = p.N, nv = p.scene.model.nv();
   const double h_max = p.h_max;
-  const double h0 = initialElementLength(p);
+  const double h0 = initialElementLength(p, schedule ? schedule->horizon() : 0);
   const double dt = h0 / 40;
 
   auto starts = [&](const std::vector<double>& h) {
@@ -235,7 +249,7 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
   for (;;) {
     ++iterations;
     const std::vector<double> simulated_starts = starts(h);
-    sim = simulate(sceneAtMeshTimes(p, simulated_starts), dt, N * h_max + dt);
+    sim = simulate(sceneAtMeshTimes(p, simulated_starts), dt, N * h_max + dt, p, schedule);
     std::vector<double> events = sim.transitions;
     for (long k = 0; k < sim.steps(); ++k)
       if (sim.impact[k] && (k == 0 || !sim.impact[k - 1])) events.push_back(sim.impact_time[k]);
@@ -289,7 +303,12 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
       const auto& pt = L.points[pi];
       x.segment(pt.q, nv) = q;
       x.segment(pt.v, nv) = v - (1 - L.tau[pi]) * jump;
-      if (pt.u >= 0 && nu > 0) x.segment(pt.u, nu).setZero();
+      if (pt.u >= 0 && nu > 0) {
+        if (schedule)
+          x.segment(pt.u, nu) = schedule->at(time);
+        else
+          x.segment(pt.u, nu).setZero();
+      }
       const long k = sim.smoothStep(sim.stepAt(time));
       if (pt.accel_or_jump >= 0) {
         if (start) {
@@ -371,7 +390,7 @@ std::vector<HintReach> checkHints(const Transcription& t) {
   for (const PointBound& b : p.hints) {
     // at one point only (a bound on every element or point is a condition, not a contact event)
     if (b.quantity.kind != Quantity::Kind::Gap || b.upper > 1e-6 || b.element < 0 || b.point < 0) continue;
-    if (!sim) sim = simulate(sceneAtMeshTimes(p, starts), h0 / 40, p.N * h_max + h0);
+    if (!sim) sim = simulate(sceneAtMeshTimes(p, starts), h0 / 40, p.N * h_max + h0, p);
     HintReach r;
     r.origin = b.origin;
     r.contact = t.contacts().at(b.quantity.index).name;

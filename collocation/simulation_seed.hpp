@@ -1,5 +1,6 @@
 // A starting point for a transcription from Saltus' own time-stepper (timestepper/stepper.hpp):
-// the problem's scene simulated from its initial state with the inputs at zero, the mesh placed
+// the problem's scene simulated from its initial state with the inputs at zero (or an open-loop
+// schedule of them, input_schedule.hpp), the mesh placed
 // so that element boundaries fall on the simulated impacts, and the simulation resampled onto
 // it. The paper closes on this question ("how these seeds can be obtained for truly unknown
 // contact sequences", §VII); a simulation gives a seed that is physically consistent from the
@@ -23,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "collocation/input_schedule.hpp"
 #include "collocation/transcription.hpp"
 
 namespace saltus::collocation {
@@ -34,8 +36,12 @@ struct SimulationSeedReport {
   int iterations = 0;               // mesh–simulation passes
 };
 
+// With a schedule (input_schedule.hpp) the inputs are the schedule's instead of zero, in the
+// simulation and in the seed's u, and the elements start at the schedule's horizon over N (when
+// the total time is free; a total time the problem fixes or bounds below takes precedence).
 // Throws std::runtime_error (naming the time-stepper's failure) when the simulation fails.
-Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report = nullptr);
+Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report = nullptr,
+                                   const InputSchedule* schedule = nullptr);
 
 // Whether a hint that closes a contact (a gap bound ≤ 1e-6 at [n, p]) can be met by the
 // problem's own motion: the mesh point can lie anywhere in [earliest, latest] (the element

@@ -3,6 +3,7 @@
 // size) is a ValueError; a time step that fails is saltus.SimulationError (a RuntimeError).
 #include <stdexcept>
 
+#include "collocation/input_schedule.hpp"
 #include "collocation/saved_solution.hpp"
 #include "dynamics/builder.hpp"
 #include "python/bindings.hpp"
@@ -24,6 +25,8 @@ void bindErrors(py::module_& m) {
     } catch (const dynamics::ModelError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const collocation::SolutionError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const collocation::InputScheduleError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });

@@ -55,6 +55,18 @@ void bindOptimize(py::module_& m) {
       .def_readonly("P", &collocation::Problem::P, "Collocation points per element.")
       .def_readonly("h_max", &collocation::Problem::h_max, "Longest element [s].")
       .def_property_readonly("parameters", [](const collocation::Problem& p) { return p.parameters; })
+      .def_property_readonly(
+          "inputs",
+          [](const collocation::Problem& p) {
+            std::vector<std::string> names;
+            for (int c : p.inputs) names.push_back(p.scene.model.coordinate_name[c]);
+            return names;
+          },
+          "The actuated coordinates, in the order of the inputs (the u.<name> columns of a trajectory).")
+      .def_property_readonly("input_lower", [](const collocation::Problem& p) { return p.input_lower; },
+                             "Lower bound of each input [N or N m].")
+      .def_property_readonly("input_upper", [](const collocation::Problem& p) { return p.input_upper; },
+                             "Upper bound of each input [N or N m].")
       .def_property_readonly("scene", [](const collocation::Problem& p) { return std::make_shared<scene::Scene>(p.scene); })
       .def("__repr__", [](const collocation::Problem& p) { return "<saltus.Problem '" + p.name + "'>"; });
 
@@ -157,7 +169,7 @@ void bindOptimize(py::module_& m) {
       "optimize",
       [](const py::object& problem, const std::string& method, std::optional<int> N, std::optional<int> P,
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
-         std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
+         const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
          std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
          std::optional<int> task_max_iter, bool hints, bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
@@ -168,6 +180,7 @@ void bindOptimize(py::module_& m) {
         o.random_seed = seed;
         if (seed_kind) o.seed_kind = collocation::parseSeedKind(*seed_kind);
         o.seed_from = seed_from;
+        o.seed_inputs = seed_inputs;
         o.seed_scale = seed_scale;
         o.restarts = restarts;
         o.hints = hints;
@@ -221,7 +234,7 @@ void bindOptimize(py::module_& m) {
       },
       py::arg("problem"), py::kw_only(), py::arg("method") = "impulsive", py::arg("N") = py::none(),
       py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
-      py::arg("seed_from") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
+      py::arg("seed_from") = "", py::arg("seed_inputs") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
       py::arg("task_max_iter") = py::none(), py::arg("hints") = true, py::arg("require_feasible") = false,

@@ -39,6 +39,10 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
     problem.seed_solution = options.seed_from;
     problem.seed_solution_origin = "--seed-from";
   }
+  if (!options.seed_inputs.empty()) {
+    problem.seed_inputs = options.seed_inputs;
+    problem.seed_inputs_origin = "--seed-inputs";
+  }
   if (options.seed_scale) {
     if (!(*options.seed_scale >= 0) || !std::isfinite(*options.seed_scale))
       throw std::invalid_argument("seed_scale: expected a non-negative number");
@@ -102,6 +106,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["elements"] = t.elements();
   j["seed"] = toString(problem.seed_kind);
   if (problem.seed_kind == SeedKind::Solution) j["seed_solution"] = problem.seed_solution;
+  if (!problem.seed_inputs.empty()) j["seed_inputs"] = fs::absolute(problem.seed_inputs).lexically_normal().string();
   if ((problem.seed_kind == SeedKind::Simulation || problem.seed_kind == SeedKind::PerturbedSimulation) &&
       o.seed_fallback.empty())
     j["simulation_seed"] = {{"dt", o.simulation_seed.dt},

@@ -143,6 +143,7 @@ struct OptimizeOptions {
   std::optional<unsigned> random_seed;          // of the initial guess's perturbation
   std::optional<collocation::SeedKind> seed_kind;  // null, perturbed, simulation, perturbed-simulation
   std::string seed_from;                        // start from an earlier solution (its folder)
+  std::string seed_inputs;                      // an input schedule driving a simulation seed (its CSV)
   std::optional<double> seed_scale;             // size of the random perturbation (≥ 0)
   std::optional<int> restarts;                  // further attempts after an infeasible end (≥ 0)
   std::optional<bool> exact_hessian;            // every stage's; false: limited-memory

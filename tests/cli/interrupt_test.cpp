@@ -224,6 +224,7 @@ TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
       {{"optimize", "point_mass_drop", "--seed-scale", "-1", "--out", out}, "--seed-scale: expected a non-negative number, got '-1'"},
       {{"optimize", "point_mass_drop", "--set", "height=-1", "--out", out}, "evaluates to -nan with height = -1 (--set)"},
       {{"optimize", "point_mass_drop", "--seed-from", (dir / "nowhere").string(), "--out", out}, "--seed-from: " + (dir / "nowhere").string() + ": no such solution"},
+      {{"optimize", "point_mass_drop", "--seed-inputs", (dir / "push.csv").string(), "--out", out}, "--seed-inputs: " + (dir / "push.csv").string() + ": an input schedule drives a problem's inputs, and problem 'point_mass_drop' has none"},
       // output places that cannot be written, named by their option before any work
       {{"run", "point_mass_drop", "--out", "/proc/saltus-test"}, "--out /proc/saltus-test: cannot write in /proc"},
       {{"run", "point_mass_drop", "--video-seconds", "1e9", "--out", run_dir}, "--video-seconds: 1e+09 s at 30 fps is 3e+10 frames, more than a million, got '1e9'"},

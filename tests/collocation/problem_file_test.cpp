@@ -409,6 +409,9 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   EXPECT_EQ(p_.seed_scale, 0.2);
   EXPECT_EQ(p_.random_seed, 7u);
   EXPECT_EQ(p_.seed_solution, kDataDir + "earlier/run");  // relative to the problem file
+  EXPECT_EQ(p_.seed_inputs, kDataDir + "scripts/push.csv");  // relative to the problem file as well
+  EXPECT_NE(p_.seed_inputs_origin.find("full.yaml:"), std::string::npos) << p_.seed_inputs_origin;
+  EXPECT_NE(p_.seed_inputs_origin.find(": solve.seed_inputs"), std::string::npos) << p_.seed_inputs_origin;
   EXPECT_FALSE(p_.exact_hessian);           // hessian: every stage's,
   EXPECT_TRUE(p_.feasibility_exact_hessian);  // then feasibility_hessian for the feasibility stage
   EXPECT_TRUE(p_.derivative_check);

@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include "tests/support/errors.hpp"
+#include "tests/support/files.hpp"
 #include "tests/support/problems.hpp"
 
 namespace saltus::collocation {
@@ -87,4 +92,50 @@ TEST(Seeding, SeedKindNamesReadBack) {
 }
 
 }  // namespace
+}  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace scheduled_seeding_test {
+
+// An input schedule drives the simulation seed from its file; a bad file is an error naming
+// where the schedule was given (not the null seed's fallback), and a schedule beside a seed
+// kind that does not simulate is refused.
+TEST(Seeding, AnInputScheduleIsReadForTheSimulationSeedOnly) {
+  Problem p = testing::pointMassDrop(0.0);
+  p.inputs = {0};
+  p.input_lower = Eigen::VectorXd::Constant(1, -30);
+  p.input_upper = Eigen::VectorXd::Constant(1, 30);
+  const std::filesystem::path dir = testing::scratchPath("seeding", "schedule");
+  std::filesystem::create_directories(dir);
+  const std::string good = (dir / "good.csv").string(), bad = (dir / "bad.csv").string();
+  std::ofstream(good) << "t,u.z\n0,19.62\n0.05,0\n0.4,0\n";
+  std::ofstream(bad) << "t,u.z\n0,19.62\n0.05,99\n0.4,0\n";
+  p.seed_kind = SeedKind::Simulation;
+  p.seed_inputs = good;
+  p.seed_inputs_origin = "--seed-inputs";
+  {
+    const Transcription t(p, Method::Impulsive);
+    const Seeding s = makeSeeding(t);
+    EXPECT_TRUE(s.fallback.empty()) << s.fallback;
+    const auto& first = t.layout()[0];
+    EXPECT_DOUBLE_EQ(s.seed(0).x[first.points[1].u], 19.62);  // pushed up at the start
+    EXPECT_NEAR(s.simulation.mesh_times.back(), 0.4, 0.5 * 0.4 / p.N + 1e-12);
+  }
+  p.seed_inputs = bad;
+  {
+    const Transcription t(p, Method::Impulsive);
+    const std::string m = testing::expectedMessageOf<InputScheduleError>([&] { makeSeeding(t); });
+    EXPECT_EQ(m.rfind("--seed-inputs: " + bad + ": row 2", 0), 0u) << m;
+  }
+  p.seed_inputs = good;
+  p.seed_kind = SeedKind::Perturbed;
+  {
+    const Transcription t(p, Method::Impulsive);
+    const std::string m = testing::expectedMessageOf<std::invalid_argument>([&] { makeSeeding(t); });
+    EXPECT_NE(m.find("an input schedule drives a simulation seed"), std::string::npos) << m;
+    EXPECT_NE(m.find("the seed is 'perturbed'"), std::string::npos) << m;
+  }
+}
+
+}  // namespace scheduled_seeding_test
 }  // namespace saltus::collocation

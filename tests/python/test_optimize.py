@@ -134,3 +134,18 @@ def test_hints_false_solves_without_the_problems_hints(tmp_path, root):
     assert hinted.summary["hints"][0]["reachable"] is False
     unhinted = saltus.optimize(str(path), restarts=0, hints=False)
     assert unhinted.feasible and unhinted.summary["hints_used"] == 0
+
+
+def test_an_input_schedule_drives_the_simulation_seed(tmp_path):
+    """seed_inputs (--seed-inputs): the schedule's inputs are the seed's; the problem says which
+    inputs a schedule has and their bounds; a bad schedule is a ValueError naming the file and row."""
+    problem = saltus.load_problem("ollie_simple", {"force_limit": 2})
+    assert problem.inputs == ["back_x", "back_z", "front_x", "front_z"]
+    weight = problem.parameters["rider_mass"] * problem.parameters["g"]
+    assert np.allclose(problem.input_upper, 2 * weight) and np.allclose(problem.input_lower, -2 * weight)
+    bad = tmp_path / "push.csv"
+    bad.write_text("t,u.back_x,u.back_z,u.front_x,u.front_z\n0,0,0,0,0\n0.1,0,%g,0,0\n0.4,0,0,0,0\n" % (3 * weight))
+    with pytest.raises(ValueError, match=r"--seed-inputs: .*push.csv: row 2 \(t = 0.1\): column 'u.back_z'"):
+        saltus.optimize(problem, seed_kind="simulation", seed_inputs=str(bad))
+    with pytest.raises(ValueError, match="an input schedule drives a simulation seed"):
+        saltus.optimize(problem, seed_kind="null", seed_inputs=str(bad))

@@ -1,0 +1,75 @@
+// Input schedules for the simulation seed (collocation/input_schedule.hpp): a file read back
+// row by row and held from each row's time to the next, the columns other than u. ignored, and
+// every way a schedule can be wrong refused with the file, the row and the column.
+#include "collocation/input_schedule.hpp"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/errors.hpp"
+#include "tests/support/files.hpp"
+#include "tests/support/problems.hpp"
+
+namespace saltus::collocation {
+namespace input_schedule_test {
+
+// The drop of Fig. 3 with its one coordinate, z, actuated within ±30 N.
+Problem actuatedDrop() {
+  Problem p = testing::pointMassDrop(0.0);
+  p.inputs = {0};
+  p.input_lower = Eigen::VectorXd::Constant(1, -30);
+  p.input_upper = Eigen::VectorXd::Constant(1, 30);
+  return p;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const std::filesystem::path dir = testing::scratchPath("input_schedule", name);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "schedule.csv").string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(InputSchedule, ReadsTheInputColumnsAndHoldsEachRowUntilTheNext) {
+  // A trajectory file's other columns are ignored.
+  const std::string path = write("good", "t,q.z,v.z,u.z\n0,0.1,0,19.62\n0.1,0.149,0.981,0\n0.5,0,0,0\n");
+  const InputSchedule s = readInputSchedule(path, actuatedDrop());
+  ASSERT_EQ(s.times.size(), 3u);
+  EXPECT_DOUBLE_EQ(s.horizon(), 0.5);
+  EXPECT_DOUBLE_EQ(s.at(0)[0], 19.62);
+  EXPECT_DOUBLE_EQ(s.at(0.0999)[0], 19.62);
+  EXPECT_DOUBLE_EQ(s.at(0.1)[0], 0);  // a row holds from its own time
+  EXPECT_DOUBLE_EQ(s.at(-1)[0], 19.62);
+  EXPECT_DOUBLE_EQ(s.at(2)[0], 0);  // the last row holds beyond the horizon
+}
+
+TEST(InputSchedule, RefusesWhatIsNotASchedule) {
+  const Problem p = actuatedDrop();
+  auto message = [&](const std::string& name, const std::string& text) {
+    const std::string path = write(name, text);
+    return testing::expectedMessageOf<InputScheduleError>([&] { readInputSchedule(path, p); });
+  };
+  std::string m = message("missing", "t,q.z\n0,0\n1,0\n");
+  EXPECT_NE(m.find("schedule.csv:1: no column 'u.z'"), std::string::npos) << m;
+  m = message("extra", "t,u.z,u.x\n0,0,0\n1,0,0\n");
+  EXPECT_NE(m.find("column 'u.x' is not an input of 'point_mass_drop'; expected u.z"), std::string::npos) << m;
+  m = message("start", "t,u.z\n0.1,0\n1,0\n");
+  EXPECT_NE(m.find("row 1 (t = 0.1): the first row must be at t = 0"), std::string::npos) << m;
+  m = message("order", "t,u.z\n0,0\n0.5,1\n0.5,2\n");
+  EXPECT_NE(m.find("row 3 (t = 0.5): times must increase strictly (the previous row's is 0.5)"), std::string::npos)
+      << m;
+  m = message("bounds", "t,u.z\n0,0\n0.2,31\n1,0\n");
+  EXPECT_NE(m.find("row 2 (t = 0.2): column 'u.z': 31 is outside the input's bounds [-30, 30]"), std::string::npos)
+      << m;
+  m = message("short", "t,u.z\n0,0\n");
+  EXPECT_NE(m.find("1 rows; a schedule needs at least two"), std::string::npos) << m;
+  m = message("nan", "t,u.z\n0,nan\n1,0\n");
+  EXPECT_NE(m.find("schedule.csv:2: column 'u.z': expected a finite number"), std::string::npos) << m;
+  const std::string path = write("unactuated", "t,u.z\n0,0\n1,0\n");
+  m = testing::expectedMessageOf<InputScheduleError>([&] { readInputSchedule(path, testing::pointMassDrop(0.0)); });
+  EXPECT_NE(m.find("problem 'point_mass_drop' has none"), std::string::npos) << m;
+}
+
+}  // namespace input_schedule_test
+}  // namespace saltus::collocation
