@@ -193,12 +193,25 @@ std::vector<double> placeMesh(const Problem& p, double h0, std::vector<double> e
   std::vector<std::pair<int, double>> anchors = {{0, 0.0}};
   for (double t : events) {
     if (N < 2) break;
-    const int b = std::clamp(static_cast<int>(std::lround(t / h0)), 1, N - 1);
-    if (b <= anchors.back().first) continue;
-    // Reachable from the previous anchor with lengths in [h_min, h_max].
-    const int steps = b - anchors.back().first;
-    const double span = t - anchors.back().second;
-    if (span < steps * h_min || span > steps * h_max) continue;
+    int b = std::clamp(static_cast<int>(std::lround(t / h0)), 1, N - 1);
+    const auto [b_prev, t_prev] = anchors.back();
+    const double span = t - t_prev;
+    auto reachable = [&](int boundary) {  // from the previous anchor with lengths in [h_min, h_max]
+      const int steps = boundary - b_prev;
+      return boundary > b_prev && boundary <= N - 1 && span >= steps * h_min && span <= steps * h_max;
+    };
+    // The nearest boundary of the uniform mesh, unless the anchors before have drifted from it
+    // (with elements at their longest, h0 = h_max, an event late for its boundary can only take a
+    // later one, and so every event after it): then counted from the previous anchor, or the
+    // next boundary, or the one before. An event within h0 / 2 of the previous one shares its
+    // boundary (left out).
+    if (b <= b_prev || !reachable(b)) {
+      const int steps = static_cast<int>(std::lround(span / h0));
+      if (steps < 1) continue;
+      const int r = b_prev + steps;
+      b = reachable(r) ? r : reachable(r + 1) ? r + 1 : reachable(r - 1) ? r - 1 : -1;
+      if (b < 0) continue;
+    }
     anchors.push_back({b, t});
   }
   placed.clear();

@@ -9,7 +9,10 @@
 //
 // The mesh: elements of equal length h0 (the total time T / N when it is fixed, else the middle
 // of the length bounds, and at least T / N when T is a lower bound); each event is moved to the
-// nearest element boundary, and the elements between consecutive events share the time between
+// nearest element boundary (counted from the previous event's when the lengths cannot reach it,
+// or the next or the one before: with h0 = h_max an event late for its boundary takes a later
+// one, and so every event after it; an event within h0 / 2 after the previous one shares its
+// boundary and is left out), and the elements between consecutive events share the time between
 // them equally (within the length bounds). The events are the impacts (a step of the simulation
 // whose velocity change exceeds 20 g dt while a contact carries an impulse; a run of such steps
 // is one impact, when its contact closes) and the changes of a contact's mode that last 5 steps

@@ -10,7 +10,7 @@ The schedule holds each of the four forces (back_x, back_z, front_x, front_z) co
 intervals of 0.03 s within the problem's bounds; the search is the cross-entropy method
 (R. Y. Rubinstein and D. P. Kroese, "The Cross-Entropy Method", Springer, 2004): sample schedules
 around a mean, keep the best tenth, move the mean and spread to them. Three stages: the air alone
-over 0.5 s, then the whole horizon with the landing, then the same with the board within 0.5 rad
+over 0.5 s (the highest of several starts), then the whole horizon with the landing, then the same with the board within 0.5 rad
 of level in the air. The simulation is the simulation seed's (θ = ½, dt = h_max / 40), so the
 seed re-simulates the motion found here. A seed fixes every random choice: the same seed, the
 same schedule (on one machine: the simulation's rounding depends on the instruction set).
@@ -18,7 +18,7 @@ same schedule (on one machine: the simulation's rounding depends on the instruct
     PYTHONPATH=build/python /usr/bin/python3 examples/python/ollie_seed_search.py --out schedule.csv
     saltus optimize ollie_simple --seed-kind simulation --seed-inputs schedule.csv --no-hints --out DIR
 
-About 25 minutes on one core.
+About 35 minutes on one core.
 """
 import argparse
 import os
@@ -120,6 +120,7 @@ def main():
     ap.add_argument("--problem", default="ollie_simple", help="built-in problem or problem file (default ollie_simple)")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="a problem parameter")
     ap.add_argument("--seed", type=int, default=0, help="random seed of the search (default 0)")
+    ap.add_argument("--starts", type=int, default=4, help="independent starts of the air stage (default 4)")
     ap.add_argument("--iterations", type=int, nargs=3, default=[40, 60, 80], metavar=("AIR", "LANDING", "LEVEL"),
                     help="iterations of the three stages (default 40 60 80)")
     a = ap.parse_args()
@@ -137,9 +138,17 @@ def main():
     for i, name in enumerate(problem.inputs):
         if name.endswith("_z"):
             support[i] = problem.parameters["rider_mass"] * problem.parameters["g"] / search.upper[i]
+    # The air stage often settles on a hop of a few centimetres (the board tipped about its rear
+    # wheel): several independent starts, the highest kept.
     air_horizon = search.air + 0.1
     mean = np.tile(support, search.intervals(air_horizon))
-    x = search.cem(rng, mean, np.full(mean.size, 0.5), air_horizon, False, False, a.iterations[0], "air")
+    best, x = -np.inf, None
+    for start in range(a.starts):
+        y = search.cem(rng, mean, np.full(mean.size, 0.5), air_horizon, False, False, a.iterations[0], f"air {start + 1}")
+        height = search.score(y, air_horizon, False, False)[0]
+        print(f"air start {start + 1}: {height:.3f} m", file=sys.stderr, flush=True)
+        if height > best:
+            best, x = height, y
     mean = np.tile(support, search.intervals(search.horizon))
     mean[: x.size] = x
     x = search.cem(rng, mean, np.full(mean.size, 0.33), search.horizon, True, False, a.iterations[1], "landing")

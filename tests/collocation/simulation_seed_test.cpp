@@ -8,6 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <string>
+
+#include "collocation/input_schedule.hpp"
+#include "collocation/problem_file.hpp"
 #include "collocation/solver.hpp"
 #include "tests/support/problems.hpp"
 
@@ -196,4 +201,57 @@ TEST(SimulationSeed, AnInputScheduleDrivesTheSimulation) {
 }
 
 }  // namespace scheduled_seed_test
+}  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace longest_elements_test {
+
+// Elements starting at their longest (h0 = h_max: a total time of at least N h_max): the landing
+// at 0.1428 s lies just after its nearest boundary, 7 × 0.02 s, which no element can stretch to;
+// it takes the next boundary, [8, 0], the eight elements before it shorter.
+TEST(SimulationSeed, AnEventBeyondItsNearestBoundaryTakesTheNext) {
+  Problem p = testing::pointMassDrop(0.0, 0.1);
+  p.total_time = p.N * p.h_max;
+  const Transcription t(p, Method::Impulsive);
+  SimulationSeedReport report;
+  const Eigen::VectorXd x = seedFromSimulation(t, &report);
+  const double t_land = std::sqrt(2 * 0.1 / 9.81);
+  ASSERT_EQ(report.events.size(), 1u);
+  EXPECT_NEAR(report.events[0], t_land, 1.5 * report.dt);
+  EXPECT_NEAR(report.mesh_times[8], report.events[0], 1e-12);
+  for (int n = 0; n < 8; ++n) EXPECT_NEAR(x[t.layout()[n].h], report.events[0] / 8, 1e-12);
+  for (int n = 8; n < p.N; ++n) EXPECT_NEAR(x[t.layout()[n].h], p.h_max, 1e-12);
+}
+
+}  // namespace longest_elements_test
+}  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace ollie_schedule_test {
+
+// The Ollie's searched schedule (models/problems/ollie_simple_schedule.csv, from
+// examples/python/ollie_seed_search.py) within the riders' bounds, and its seed an Ollie before
+// any solve: both wheels above the air goal at [20, 0], no foot through the deck, and the board
+// back on its wheels at the end.
+TEST(SimulationSeed, TheOllieScheduleSeedsAnOllie) {
+  const Problem p = loadProblem("ollie_simple");
+  const InputSchedule schedule = readInputSchedule(problemsDirectory() + "/ollie_simple_schedule.csv", p);
+  EXPECT_NEAR(schedule.horizon(), p.N * p.h_max, 1e-12);
+  const Transcription t(p, Method::Impulsive);
+  SimulationSeedReport report;
+  const Eigen::VectorXd x = seedFromSimulation(t, &report, &schedule);
+  std::map<std::string, int> contact;
+  for (std::size_t c = 0; c < t.contacts().size(); ++c) contact[t.contacts()[c].name] = static_cast<int>(c);
+  const double goal = p.parameters.at("clearance_goal");
+  const ElementLayout& air = t.layout()[20];
+  EXPECT_GE(x[air.contacts[contact.at("rear_wheel")].y[0]], goal);
+  EXPECT_GE(x[air.contacts[contact.at("front_wheel")].y[0]], goal);
+  for (const ElementLayout& L : t.layout())
+    for (std::size_t q = 0; q < L.points.size(); ++q)
+      for (const char* foot : {"back_foot", "front_foot"}) EXPECT_GE(x[L.contacts[contact.at(foot)].y[q]], -2e-3);
+  const ElementLayout& end = t.layout().back();
+  for (const char* wheel : {"rear_wheel", "front_wheel"}) EXPECT_LT(x[end.contacts[contact.at(wheel)].y[end.end]], 0.01);
+}
+
+}  // namespace ollie_schedule_test
 }  // namespace saltus::collocation
