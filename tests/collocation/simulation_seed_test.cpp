@@ -229,8 +229,8 @@ TEST(SimulationSeed, AnEventBeyondItsNearestBoundaryTakesTheNext) {
 namespace saltus::collocation {
 namespace ollie_schedule_test {
 
-// The Ollie's searched schedule (models/problems/ollie_simple_schedule.csv, from
-// examples/python/ollie_seed_search.py) within the riders' bounds, and its seed an Ollie before
+// The Ollie's searched schedule (models/problems/ollie_simple_schedule.csv, from a search as
+// examples/python/ollie_seed_search.py's) within the riders' bounds, and its seed an Ollie before
 // any solve: both wheels above the air goal at [20, 0], no foot through the deck, and the board
 // back on its wheels at the end.
 TEST(SimulationSeed, TheOllieScheduleSeedsAnOllie) {
