@@ -2,22 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "scene/trajectory_csv.hpp"
+#include "scene/yaml_reader.hpp"  // fmt
 
 namespace saltus::collocation {
-
-namespace {
-
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
-
-}  // namespace
 
 const Eigen::VectorXd& InputSchedule::at(double t) const {
   const auto it = std::upper_bound(times.begin(), times.end(), t);
@@ -56,19 +46,19 @@ InputSchedule readInputSchedule(const std::string& path, const Problem& p) {
   s.path = path;
   for (std::size_t r = 0; r < table.rows(); ++r) {
     const double t = table.at(r, 0);
-    const std::string row = path + ": row " + std::to_string(r + 1) + " (t = " + number(t) + "): ";
+    const std::string row = path + ": row " + std::to_string(r + 1) + " (t = " + scene::fmt(t) + "): ";
     if (r == 0 && t != 0) throw InputScheduleError(row + "the first row must be at t = 0");
     if (r > 0 && !(t > s.times.back()))
-      throw InputScheduleError(row + "times must increase strictly (the previous row's is " + number(s.times.back()) + ")");
+      throw InputScheduleError(row + "times must increase strictly (the previous row's is " + scene::fmt(s.times.back()) + ")");
     Eigen::VectorXd u(nu);
     for (int i = 0; i < nu; ++i) {
       u[i] = table.at(r, column[i]);
       // within the bounds (to the last digits a %.12g file keeps)
       const double slack = 1e-10 * std::max({1.0, std::abs(p.input_lower[i]), std::abs(p.input_upper[i])});
       if (u[i] < p.input_lower[i] - slack || u[i] > p.input_upper[i] + slack)
-        throw InputScheduleError(row + "column 'u." + names[p.inputs[i]] + "': " + number(u[i]) +
-                                 " is outside the input's bounds [" + number(p.input_lower[i]) + ", " +
-                                 number(p.input_upper[i]) + "]");
+        throw InputScheduleError(row + "column 'u." + names[p.inputs[i]] + "': " + scene::fmt(u[i]) +
+                                 " is outside the input's bounds [" + scene::fmt(p.input_lower[i]) + ", " +
+                                 scene::fmt(p.input_upper[i]) + "]");
     }
     s.times.push_back(t);
     s.values.push_back(std::move(u));

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "collocation/problem_fingerprint.hpp"
 #include "collocation/solver.hpp"
@@ -466,17 +467,16 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     p_.restarts = r_.integer(s, "solve.restarts");
     if (p_.restarts < 0) r_.fail(s, "solve.restarts", "expected a non-negative integer, got " + std::to_string(p_.restarts));
   }
-  if (const YAML::Node s = node["seed_solution"]; s.IsDefined()) {
-    fs::path path = r_.text(s, "solve.seed_solution");
-    if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
-    p_.seed_solution = path.lexically_normal().string();
-    p_.seed_solution_origin = origin(s) + ": solve.seed_solution";
-  }
-  if (const YAML::Node s = node["seed_inputs"]; s.IsDefined()) {
-    fs::path path = r_.text(s, "solve.seed_inputs");
-    if (path.is_relative()) path = fs::path(r_.file()).parent_path() / path;
-    p_.seed_inputs = path.lexically_normal().string();
-    p_.seed_inputs_origin = origin(s) + ": solve.seed_inputs";
+  // A file named relative to the problem file, and where it was given.
+  for (auto [key, path, where] : {std::tuple{"seed_solution", &p_.seed_solution, &p_.seed_solution_origin},
+                                  std::tuple{"seed_inputs", &p_.seed_inputs, &p_.seed_inputs_origin}}) {
+    const YAML::Node s = node[key];
+    if (!s.IsDefined()) continue;
+    const std::string name = std::string("solve.") + key;
+    fs::path file = r_.text(s, name);
+    if (file.is_relative()) file = fs::path(r_.file()).parent_path() / file;
+    *path = file.lexically_normal().string();
+    *where = origin(s) + ": " + name;
   }
   if (p_.seed_kind == SeedKind::Solution && p_.seed_solution.empty())
     r_.fail(node, "solve.seed_solution",
