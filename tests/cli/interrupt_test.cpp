@@ -36,7 +36,10 @@ class InterruptTest : public ::testing::Test {
     dir_ = saltus::testing::scratchPath("interrupt", ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override {
+    fs::remove_all(dir_);
+    if (!err_.empty()) fs::remove(err_);
+  }
 
   // Starts `saltus ARGS...` in the folder, standard error to a file beside it.
   pid_t start(const std::vector<std::string>& args) {

@@ -23,17 +23,18 @@ Problem actuatedDrop() {
   return p;
 }
 
-std::string write(const std::string& name, const std::string& text) {
-  const std::filesystem::path dir = testing::scratchPath("input_schedule", name);
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / "schedule.csv").string();
+// Writes DIR/NAME/schedule.csv.
+std::string write(const testing::ScratchDir& dir, const std::string& name, const std::string& text) {
+  std::filesystem::create_directories(dir / name);
+  const std::string path = (dir / name / "schedule.csv").string();
   std::ofstream(path) << text;
   return path;
 }
 
 TEST(InputSchedule, ReadsTheInputColumnsAndHoldsEachRowUntilTheNext) {
   // A trajectory file's other columns are ignored.
-  const std::string path = write("good", "t,q.z,v.z,u.z\n0,0.1,0,19.62\n0.1,0.149,0.981,0\n0.5,0,0,0\n");
+  const testing::ScratchDir dir("input_schedule", "good");
+  const std::string path = write(dir, "good", "t,q.z,v.z,u.z\n0,0.1,0,19.62\n0.1,0.149,0.981,0\n0.5,0,0,0\n");
   const InputSchedule s = readInputSchedule(path, actuatedDrop());
   ASSERT_EQ(s.times.size(), 3u);
   EXPECT_DOUBLE_EQ(s.horizon(), 0.5);
@@ -46,8 +47,9 @@ TEST(InputSchedule, ReadsTheInputColumnsAndHoldsEachRowUntilTheNext) {
 
 TEST(InputSchedule, RefusesWhatIsNotASchedule) {
   const Problem p = actuatedDrop();
+  const testing::ScratchDir dir("input_schedule", "bad");
   auto message = [&](const std::string& name, const std::string& text) {
-    const std::string path = write(name, text);
+    const std::string path = write(dir, name, text);
     return testing::expectedMessageOf<InputScheduleError>([&] { readInputSchedule(path, p); });
   };
   std::string m = message("missing", "t,q.z\n0,0\n1,0\n");
@@ -66,7 +68,7 @@ TEST(InputSchedule, RefusesWhatIsNotASchedule) {
   EXPECT_NE(m.find("1 rows; a schedule needs at least two"), std::string::npos) << m;
   m = message("nan", "t,u.z\n0,nan\n1,0\n");
   EXPECT_NE(m.find("schedule.csv:2: column 'u.z': expected a finite number"), std::string::npos) << m;
-  const std::string path = write("unactuated", "t,u.z\n0,0\n1,0\n");
+  const std::string path = write(dir, "unactuated", "t,u.z\n0,0\n1,0\n");
   m = testing::expectedMessageOf<InputScheduleError>([&] { readInputSchedule(path, testing::pointMassDrop(0.0)); });
   EXPECT_NE(m.find("problem 'point_mass_drop' has none"), std::string::npos) << m;
 }

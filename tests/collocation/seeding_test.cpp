@@ -105,8 +105,7 @@ TEST(Seeding, AnInputScheduleIsReadForTheSimulationSeedOnly) {
   p.inputs = {0};
   p.input_lower = Eigen::VectorXd::Constant(1, -30);
   p.input_upper = Eigen::VectorXd::Constant(1, 30);
-  const std::filesystem::path dir = testing::scratchPath("seeding", "schedule");
-  std::filesystem::create_directories(dir);
+  const testing::ScratchDir dir("seeding", "schedule");
   const std::string good = (dir / "good.csv").string(), bad = (dir / "bad.csv").string();
   std::ofstream(good) << "t,u.z\n0,19.62\n0.05,0\n0.4,0\n";
   std::ofstream(bad) << "t,u.z\n0,19.62\n0.05,99\n0.4,0\n";

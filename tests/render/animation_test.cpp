@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "render/csv_trajectory.hpp"
+#include "tests/support/files.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace {
@@ -17,7 +18,8 @@ using namespace saltus::render;
 
 // Ball falling from 1 m to rest at 0 by t = 0.5 (an impulse at 0.5), then resting until t = 1.
 std::string restingBallCsv() {
-  const auto path = std::filesystem::temp_directory_path() / ("saltus_animation_" + std::to_string(::getpid()) + ".csv");
+  static const saltus::testing::ScratchDir dir("render", "animation");  // removed when the program exits
+  const auto path = dir / "resting_ball.csv";
   std::ofstream out(path);
   out << "t,q.z,v.z,contact.ball.rn,contact.ball.pn\n";
   for (int k = 0; k <= 10; ++k) {

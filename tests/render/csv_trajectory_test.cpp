@@ -7,14 +7,17 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/files.hpp"
 #include "tests/support/scenes.hpp"
 
 namespace {
 
 using saltus::render::CsvTrajectory;
 
+// Files of this program's tests, removed when it exits.
 std::string writeCsvFile(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("saltus_render_" + std::to_string(::getpid()) + "_" + name);
+  static const saltus::testing::ScratchDir dir("render", "csv_trajectory");
+  const auto path = dir / name;
   std::ofstream(path) << text;
   return path.string();
 }

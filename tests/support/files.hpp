@@ -1,4 +1,5 @@
-// Files in tests: a file's bytes, and a scratch folder under the temporary folder.
+// Files in tests: a file's bytes, and a scratch folder under the temporary folder (a test leaves
+// nothing behind in it).
 #pragma once
 
 #include <unistd.h>
@@ -18,6 +19,26 @@ inline std::filesystem::path scratchPath(const std::string& suite, const std::st
   std::filesystem::remove_all(d);
   return d;
 }
+
+// A scratch folder that lives as long as the object: created empty, removed with everything in
+// it when the object goes (also when the test fails an assertion and returns early).
+class ScratchDir {
+ public:
+  ScratchDir(const std::string& suite, const std::string& name) : path_(scratchPath(suite, name)) {
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // The bytes of `path` ("" when it cannot be read).
 inline std::string readFile(const std::filesystem::path& path) {
