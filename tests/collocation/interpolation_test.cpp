@@ -48,7 +48,9 @@ TEST_F(SwingFixture, PassesThroughTheVariablesAtEveryPoint) {
       const TrajectoryPoint e = traj.at(time, side);
       EXPECT_NEAR(e.q[0], x[L.points[p].q], 1e-9) << "[" << n << ", " << p << "]";
       EXPECT_NEAR(e.v[0], x[L.points[p].v], 1e-9) << "[" << n << ", " << p << "]";
-      if (p > 0 && static_cast<int>(p) != L.end) EXPECT_NEAR(e.a[0], x[L.points[p].accel_or_jump], 1e-9);
+      if (p > 0 && static_cast<int>(p) != L.end) {
+        EXPECT_NEAR(e.a[0], x[L.points[p].accel_or_jump], 1e-9);
+      }
     }
   }
 }

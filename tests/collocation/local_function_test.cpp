@@ -107,8 +107,9 @@ bool compareIfIs(const LocalFunction& f, const Eigen::VectorXd& x, const Eigen::
   const Eigen::MatrixXd H = lowerHessian(*ad, x, lambda), Hfull = lowerHessian(full, x, lambda);
   EXPECT_LT((H - Hfull).cwiseAbs().maxCoeff(), 1e-12 * (1 + Hfull.cwiseAbs().maxCoeff())) << name;
   EXPECT_LE(ad->hessianSweeps(), full.hessianSweeps()) << name;
-  if (seen.insert(name).second)
+  if (seen.insert(name).second) {
     EXPECT_LT(ad->hessianSweeps(), full.hessianSweeps()) << name;
+  }
   return true;
 }
 

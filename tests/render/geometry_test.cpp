@@ -52,10 +52,16 @@ TEST(SceneGeometry, LinksWithoutVisualsGetCapsulesToTheirChildren) {
   b.addLink("world");
   b.addLink("a", 1.0, Eigen::Vector3d(0, 0, -0.2), Eigen::Matrix3d::Identity() * 0.01);
   b.addLink("b", 1.0, Eigen::Vector3d(0, 0, -0.3), Eigen::Matrix3d::Identity() * 0.01);
-  saltus::dynamics::JointSpec j1{"j1", saltus::dynamics::LinkJointType::Revolute, "world", "a"};
+  saltus::dynamics::JointSpec j1;
+  j1.name = "j1";
+  j1.parent = "world";
+  j1.child = "a";
   j1.axis = Eigen::Vector3d::UnitY();
   b.addJoint(j1);
-  saltus::dynamics::JointSpec j2{"j2", saltus::dynamics::LinkJointType::Revolute, "a", "b"};
+  saltus::dynamics::JointSpec j2;
+  j2.name = "j2";
+  j2.parent = "a";
+  j2.child = "b";
   j2.axis = Eigen::Vector3d::UnitY();
   j2.p_PJ = Eigen::Vector3d(0, 0, -0.4);
   b.addJoint(j2);
