@@ -58,8 +58,8 @@ Seeding makeSeeding(const Transcription& t) {
   s.seed = [&t, base, kind, scale, random_seed](int k) -> Seed {
     const bool exact_first = kind == SeedKind::Null || kind == SeedKind::Simulation;
     if ((exact_first && k == 0) || scale <= 0)
-      return {*base, kind == SeedKind::Simulation || (kind == SeedKind::Solution && scale <= 1e-3)};
-    return {t.perturb(*base, scale, random_seed + static_cast<unsigned>(k)), kind == SeedKind::Solution && scale <= 1e-3};
+      return {*base, kind == SeedKind::Simulation || kind == SeedKind::Solution};
+    return {t.perturb(*base, scale, random_seed + static_cast<unsigned>(k)), kind == SeedKind::Solution};
   };
   s.restarts = scale > 0 ? p.restarts : 0;  // without a perturbation every attempt is the same
   return s;

@@ -10,7 +10,10 @@
 // Attempt 0 starts from that point (perturbed for `perturbed`, `perturbed-simulation` and `solution`, with
 // random_seed);
 // attempt k ≥ 1, after an infeasible end, from it perturbed with random_seed + k. A simulation
-// seed, and a solution perturbed by at most 1e-3, are near a solution (Seed::warm) in attempt 0.
+// seed (in attempt 0) and an earlier solution (perturbed or not, in every attempt) are near a
+// solution (Seed::warm): Ipopt starts with a small barrier parameter. From a perturbed Ollie
+// solution (scale 0.01 and 0.1) the cold start (μ₀ = 0.1) walked away from the contact sequence
+// and failed; the warm one came back to it (README, "The Ollie").
 #pragma once
 
 #include <string>

@@ -1,7 +1,8 @@
 // The starting points of a solve by seed kind (collocation/seeding.hpp): the simulation seed is
 // exact and warm in attempt 0 and perturbed in later attempts; the perturbed kinds add uniform
 // values in [0, seed_scale] to the positions and normal reactions only, the same for the same
-// random seed and different for another; without a perturbation there is nothing to restart from.
+// random seed and different for another; without a perturbation there is nothing to restart from;
+// an earlier solution is warm, perturbed or not.
 #include "collocation/seeding.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "collocation/problem_file.hpp"
+#include "collocation/solution.hpp"
+#include "tests/support/drop_checks.hpp"
 #include "tests/support/errors.hpp"
 #include "tests/support/files.hpp"
 #include "tests/support/problems.hpp"
@@ -137,4 +141,41 @@ TEST(Seeding, AnInputScheduleIsReadForTheSimulationSeedOnly) {
 }
 
 }  // namespace scheduled_seeding_test
+}  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace solution_seeding_test {
+
+// An earlier solution seeds its solve warm (Ipopt's small barrier parameter) whether perturbed or
+// not, in every attempt: the inelastic drop's saved solution perturbed by up to 0.1 (0.1 m on a
+// 0.1 m fall) comes back to the analytic landing; unperturbed it is the saved point itself.
+TEST(Seeding, AnEarlierSolutionIsWarmPerturbedOrNot) {
+  Problem p = loadProblem("point_mass_drop", {{"restitution", 0}});
+  p.seed_kind = SeedKind::Solution;
+  p.seed_solution = std::string(SALTUS_SOURCE_DIR) + "/tests/data/solutions/point_mass_drop_inelastic";
+  p.random_seed = 2;
+  p.seed_scale = 0;
+  const Transcription exact(p, Method::Impulsive);
+  const Seeding e = makeSeeding(exact);
+  EXPECT_TRUE(e.seed(0).warm);
+  EXPECT_EQ(e.restarts, 0) << "nothing to restart from without a perturbation";
+  EXPECT_LE(exact.largestProduct(e.seed(0).x), p.complementarity_tolerance) << "the saved solution itself";
+
+  p.seed_scale = 0.1;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding s = makeSeeding(t);
+  const Seed first = s.seed(0), second = s.seed(1);
+  EXPECT_TRUE(first.warm);
+  EXPECT_TRUE(second.warm);
+  EXPECT_GT((first.x - e.seed(0).x).cwiseAbs().maxCoeff(), 1e-3) << "attempt 0 is perturbed";
+  EXPECT_GT((second.x - first.x).cwiseAbs().maxCoeff(), 1e-3) << "another attempt, another point";
+  SolveOptions o;
+  o.restarts = 0;
+  testing::Solved solved;
+  solved.report = solve(t, s.seed, o);
+  solved.rows = trajectory(t, solved.report.x);
+  testing::checkDrop(solved, 0.0);
+}
+
+}  // namespace solution_seeding_test
 }  // namespace saltus::collocation
