@@ -79,7 +79,8 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
   }
   if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], "options.task_max_iter", 0);
   if (n["seed"]) {
-    o.seed_kind = r.text(n["seed"], "options.seed");
+    // A bare `null` is YAML's empty value: the null seed, as in a problem file's solve.seed.
+    o.seed_kind = n["seed"].IsNull() ? "null" : r.text(n["seed"], "options.seed");
     try {
       if (collocation::parseSeedKind(o.seed_kind) == collocation::SeedKind::Solution)
         r.fail(n["seed"], "options.seed", "a solution seed is not for a sweep; expected null, perturbed, simulation or perturbed-simulation");

@@ -3,10 +3,12 @@
 // file, line and key before any solve starts.
 #include "sweep/spec.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -92,6 +94,20 @@ TEST(SweepSpec, ProblemPathsAreRelativeToTheSpec) {
   EXPECT_EQ(fs::path(spec.problems[0].problem), (dir / "problems/drop.yaml").lexically_normal());
   EXPECT_EQ(expandSweep(spec).size(), 1u);
   fs::remove_all(dir);
+}
+
+// The paper's strategy 1 written as YAML reads it: a bare null is the null seed (as in a problem
+// file's solve.seed), quoted or not.
+TEST(SweepSpec, ABareNullSeedIsTheNullSeed) {
+  for (const std::string value : {"null", "\"null\"", "~"}) {
+    const SweepSpec spec =
+        parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {seed: " + value + "}\n",
+                       "spec.yaml");
+    EXPECT_EQ(spec.options.seed_kind, "null") << value;
+    const std::vector<std::string> args = expandSweep(spec).front().optimizeArguments(spec.options, "OUT");
+    const std::vector<std::string> kind = {"--seed-kind", "null"};
+    EXPECT_NE(std::search(args.begin(), args.end(), kind.begin(), kind.end()), args.end()) << value;
+  }
 }
 
 TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
