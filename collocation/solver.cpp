@@ -218,6 +218,21 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
 
 }  // namespace
 
+bool tightensAfter(const StageReport& feasibility, double tolerance, double violation_tolerance, double tighten_within) {
+  const StageReport& f = feasibility;
+  if (f.largest_product <= tolerance && f.largest_violation <= violation_tolerance) return false;  // feasible
+  if (!(f.largest_product <= tighten_within * tolerance)) return false;
+  if (!std::isfinite(f.largest_product) || !std::isfinite(f.largest_violation)) return false;  // no point to start from
+  // A stage stopped by its iteration or time limit is tightened as well: on the biped (μ = 1.6) the
+  // feasibility stage reached its 3,000 iterations with products of 1.15e-4, 52 tightening
+  // iterations from a solution; from products of 20 another became feasible in 629, from 11.8
+  // another failed after 3,000 more. So is one whose restoration phase failed: from a perturbed
+  // Ollie solution (scale 0.01, seed 2) the feasibility stage failed so with the constraints met
+  // to 1e-9 and products of 0.015, a point to start from like any other (README).
+  return f.succeeded || f.status_code == Ipopt::Maximum_Iterations_Exceeded ||
+         f.status_code == Ipopt::Maximum_CpuTime_Exceeded || f.status_code == Ipopt::Restoration_Failed;
+}
+
 SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const SolveOptions& options) {
   SolveReport report;
   report.variables = t.variables();
@@ -238,16 +253,11 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   const StageReport first = report.stages.back();  // a copy: later push_backs reallocate
   bool feasible = feasibleEnd(first);  // the point x
   std::size_t kept = 0;  // the stage whose point is the result
-  // A stage stopped by its iteration or time limit is tightened as well: on the biped (μ = 1.6) the
-  // feasibility stage reached its 3,000 iterations with products of 1.15e-4, 52 tightening
-  // iterations from a solution; from products of 20 another became feasible in 629, from 11.8
-  // another failed after 3,000 more (README).
-  const bool stopped = first.status_code == Ipopt::Maximum_Iterations_Exceeded || first.status_code == Ipopt::Maximum_CpuTime_Exceeded;
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task_follows = has_task || !t.problem().hints.empty();
-  if (!report.interrupted && (first.succeeded || stopped) && !feasible && first.largest_product <= options.tighten_within * tolerance) {
+  if (!report.interrupted && tightensAfter(first, tolerance, options.violation_tolerance, options.tighten_within)) {
     // A local minimum of the penalty with products above the tolerance (often just above: on a
     // resting mass, a staircase of small impulses at later boundaries), or a stage stopped on its
     // way down. The bounded products of the tightening stage, from this point, pull them under it

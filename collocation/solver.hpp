@@ -92,8 +92,9 @@ struct SolveOptions {
   // leaves a feasible, not converged, solution.
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
-  // A feasibility stage that ends (Ipopt succeeded, or stopped by its iteration or time limit)
-  // with its largest product above the tolerance, but within this many times it, is tightened:
+  // A feasibility stage that ends (Ipopt succeeded, stopped by its iteration or time limit, or its
+  // restoration phase failed; tightensAfter) with its largest product above the tolerance, but
+  // within this many times it, is tightened:
   // a stage minimising Σ ε with every ε bounded by 0.9 × the tolerance (the paper's bounded form
   // of eq. 8), from that point, before any task stage; when it fails the feasibility stage's
   // point is kept. Default: always; 0: never. On the perturbed simulation seeds of
@@ -125,6 +126,13 @@ class IpoptOptionError : public std::invalid_argument {
 // the value has its type (and, for a name-valued option, is one of its names). Throws
 // IpoptOptionError.
 void checkIpoptOption(const std::string& name, const std::string& value);
+
+// Whether the tightening stage follows a feasibility stage that ended as `feasibility` reports: its
+// point is not feasible (products within `tolerance`, constraints within `violation_tolerance`),
+// its products are within tighten_within × tolerance (SolveOptions::tighten_within), and Ipopt
+// ended the stage at a (local) solution, at its iteration or time limit, or after its restoration
+// phase failed; not after an error in its step or an interruption.
+bool tightensAfter(const StageReport& feasibility, double tolerance, double violation_tolerance, double tighten_within);
 
 // One attempt from x0 (options.restarts is ignored).
 SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const SolveOptions& options);

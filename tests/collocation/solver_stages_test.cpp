@@ -1,11 +1,13 @@
 // The solver's stages (collocation/solver.hpp): restarts after an infeasible end, the tightening
 // of a feasibility stage that ends near the tolerance or at its limit, the task stage's best
 // feasible point wherever it stops, and each stage's Hessian.
+#include <IpReturnCodes.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "collocation/problem_file.hpp"
@@ -314,4 +316,46 @@ TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {
 }
 
 }  // namespace
+}  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace tighten_rule_test {
+
+// Which ends of the feasibility stage are tightened (tightensAfter): an infeasible point within
+// tighten_within × the tolerance, whether Ipopt solved the stage, stopped it at a limit or failed
+// its restoration phase there; not a feasible point, not one beyond the ratio, not one left by an
+// error in a step.
+TEST(Solver, TighteningFollowsASolvedStoppedOrFailedRestorationEnd) {
+  const double tolerance = 1e-4, violation = 1e-5, within = std::numeric_limits<double>::infinity();
+  StageReport end;
+  end.largest_product = 0.015;
+  end.largest_violation = 1.3e-9;
+  const auto with = [&](int code, bool succeeded) {
+    StageReport s = end;
+    s.status_code = code;
+    s.succeeded = succeeded;
+    return s;
+  };
+  EXPECT_TRUE(tightensAfter(with(Ipopt::Solved_To_Acceptable_Level, true), tolerance, violation, within));
+  EXPECT_TRUE(tightensAfter(with(Ipopt::Maximum_Iterations_Exceeded, false), tolerance, violation, within));
+  EXPECT_TRUE(tightensAfter(with(Ipopt::Maximum_CpuTime_Exceeded, false), tolerance, violation, within));
+  EXPECT_TRUE(tightensAfter(with(Ipopt::Restoration_Failed, false), tolerance, violation, within));
+  EXPECT_FALSE(tightensAfter(with(Ipopt::Error_In_Step_Computation, false), tolerance, violation, within));
+  EXPECT_FALSE(tightensAfter(with(Ipopt::Invalid_Number_Detected, false), tolerance, violation, within));
+  EXPECT_FALSE(tightensAfter(with(Ipopt::Restoration_Failed, false), tolerance, violation, 100)) << "beyond the ratio";
+  EXPECT_TRUE(tightensAfter(with(Ipopt::Restoration_Failed, false), tolerance, violation, 200));
+  StageReport feasible = with(Ipopt::Restoration_Failed, false);
+  feasible.largest_product = 9e-5;
+  EXPECT_FALSE(tightensAfter(feasible, tolerance, violation, within)) << "nothing to tighten";
+  feasible.largest_violation = 1e-3;  // products met, a constraint not: tightened
+  EXPECT_TRUE(tightensAfter(feasible, tolerance, violation, within));
+  StageReport nan = with(Ipopt::Maximum_Iterations_Exceeded, false);
+  nan.largest_product = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(tightensAfter(nan, tolerance, violation, within)) << "a point that is not finite";
+  nan.largest_product = 0.015;
+  nan.largest_violation = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(tightensAfter(nan, tolerance, violation, within));
+}
+
+}  // namespace tighten_rule_test
 }  // namespace saltus::collocation
