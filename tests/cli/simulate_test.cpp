@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/files.hpp"
 #include "tests/support/run_saltus.hpp"
 
 namespace {
@@ -28,25 +29,17 @@ using saltus::testing::readFile;
 
 using saltus::testing::runSaltus;
 
-// A fresh, empty folder per test, removed afterwards.
-class TempDir {
+// A fresh, empty folder per test, removed afterwards (testing::ScratchDir), with paths as text
+// for the command lines and its entries listed.
+class TempDir : public saltus::testing::ScratchDir {
  public:
-  explicit TempDir(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("saltus_sim_test_" + std::to_string(::getpid()) + "_" + tag)) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  explicit TempDir(const std::string& tag) : ScratchDir("sim_test", tag) {}
+  std::string operator/(const std::string& name) const { return (path() / name).string(); }
   std::vector<std::string> entries() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(path())) names.push_back(e.path().filename().string());
     return names;
   }
-
- private:
-  fs::path path_;
 };
 
 std::vector<std::string> splitCsvLine(const std::string& line) {
