@@ -80,6 +80,7 @@ TimeStepper::TimeStepper(const Scene& scene, StepperOptions options)
   reports_.assign(pairs_.size(), ContactReport{});
   forced_.assign(pairs_.size(), 0);
   in_rows_.assign(pairs_.size(), 0);
+  under_.assign(pairs_.size(), 0);
   measureContacts();
   stats_.max_penetration = stats_.max_stop_penetration = 0;
   const double g = scene_.model.gravity.norm();
@@ -91,6 +92,7 @@ void TimeStepper::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v, doub
   v_ = v;
   t_ = t;
   for (ContactReport& r : reports_) r = ContactReport{};
+  std::fill(under_.begin(), under_.end(), 0);
   solved_active_.clear();
   measureContacts();
   stats_ = StepperStats{};
@@ -149,7 +151,7 @@ double TimeStepper::buildRows(double t_next, double h, bool predict) {
     }
     const double gap_end = gap + th_h * vn_free;
     if (!forced_[c] && gap > margin && (!predict || gap_end > margin)) continue;
-    if (!contact::withinExtent(pair, data_)) continue;  // beyond a body's plane: touches nothing
+    if (!touchable(c)) continue;  // beyond a body's plane or under it: touches nothing
     const double vn = pair.isStop() ? pair.sign * v_[pair.coordinate] : normal.dot(J_point_[c] * v_);
     if (predict && reports_[c].gap > margin)  // open at the start, closing within the step
       t_close = std::min(t_close, impactTime(reports_[c].gap, reports_[c].vn, gap_end, h, options_.theta,
@@ -329,6 +331,8 @@ void TimeStepper::project() {
   dynamics::integrate(model, q_, impulse_, 1.0, q_);  // q ⊕ Δ, Δ = M⁻¹ Nᵀ p
 }
 
+bool TimeStepper::touchable(int c) const { return !under_[c] && contact::withinExtent(pairs_[c], data_); }
+
 // Gaps and relative velocities of every contact and stop at the current state; returns whether
 // any gap is below −penetration_tolerance.
 bool TimeStepper::measureContacts() {
@@ -352,9 +356,16 @@ bool TimeStepper::measureContacts() {
       const Eigen::Vector2d s = contact::planeCoordinates(pair, data_);
       r.s1 = s[0];
       r.s2 = s[1];
-      r.over_plane = contact::withinExtent(pair, s);
+      // Below the plane's level beyond its edge, the point is under the body until it is above
+      // that level again; coming back within the extent from below does not put it on top.
+      const bool within = contact::withinExtent(pair, s);
+      if (r.gap >= 0)
+        under_[c] = 0;
+      else if (!within && r.gap < -options_.penetration_tolerance)
+        under_[c] = 1;
+      r.over_plane = within && !under_[c];
     }
-    if (!r.over_plane) continue;  // below a body's plane but beyond its edge: not a penetration
+    if (!r.over_plane) continue;  // below a body's plane but beyond its edge or under it: not a penetration
     penetrating |= r.gap < -options_.penetration_tolerance;
     double& largest = pair.isStop() ? stats_.max_stop_penetration : stats_.max_penetration;  // rad or m / m
     largest = std::max(largest, -r.gap);
@@ -402,7 +413,7 @@ void TimeStepper::advance(double h) {
     for (int r = 0; r < m_; ++r) in_rows_[active_[r]] = 1;
     bool passed = false;
     for (int c = 0; c < static_cast<int>(pairs_.size()); ++c) {
-      if (in_rows_[c] || !contact::withinExtent(pairs_[c], data_)) continue;
+      if (in_rows_[c] || !touchable(c)) continue;
       const contact::ContactPair& pair = pairs_[c];
       const double vn = pair.isStop() ? pair.sign * v_next[pair.coordinate]
                                       : contact::planeNormal(pair, data_).dot(J_point_[c] * v_next);

@@ -112,7 +112,9 @@ class SimulationError : public std::runtime_error {
 // over the step). Tangential quantities are in the surface's basis (t1, t2).
 struct ContactReport {
   bool active = false;
-  bool over_plane = true;  // the point is over its plane's extent (always, on a world surface or a stop)
+  // The point is over its plane's extent and has not gone under it (always, on a world surface or
+  // a stop): only then can it touch the plane.
+  bool over_plane = true;
   double gap = 0, vn = 0, vt1 = 0, vt2 = 0, pn = 0, pt1 = 0, pt2 = 0;
   double s1 = 0, s2 = 0;  // on a body's plane: the point's plane coordinates (contact::planeCoordinates) [m]
 };
@@ -163,6 +165,9 @@ class TimeStepper {
   void solveLcp(int nz, double h);
   void project();
   bool measureContacts();
+  // Whether contact c can touch at the current kinematics (data_): within its plane's extent and
+  // not under it (under_).
+  bool touchable(int c) const;
   std::vector<std::string> activeNames() const;
   std::string lcpRowName(int row) const;  // solveLcp's row: "foot normal", "foot friction 1", "foot cone"
 
@@ -181,6 +186,10 @@ class TimeStepper {
   // Per pair: made active in this (sub-)step because the solution without it would pass it (an
   // impulse elsewhere drove it closed: a chain's stops), and whether it has a row now.
   std::vector<char> forced_, in_rows_;
+  // Per contact on a body's plane: the point went below the plane's level beyond its edge and has
+  // not come above that level since. It is under the body, not in it: it touches nothing, also
+  // where it comes back within the extent (a one-sided plate, not a half-space).
+  std::vector<char> under_;
   double rows_t_next_ = 0, rows_h_ = 0;  // buildRows' last arguments, for a re-solve
   bool rows_predict_ = false;
   std::vector<double> active_gap_, active_e_;

@@ -75,6 +75,41 @@ TEST(StepperTwoBodies, BlockLeavesTheDeckAtItsEndAndFalls) {
   EXPECT_LT(sim.stats().max_penetration, 1e-9);  // below the deck's plane, but beyond its end
 }
 
+// The deck is a plate, not a half-space: the block that fell past the deck's rear end is under it
+// when the cart is pushed back beneath it, and keeps falling freely (before, it was met with the
+// whole depth below the deck's level as a penetration and thrown up onto the deck).
+TEST(StepperTwoBodies, ABlockThatFellBelowTheDeckStaysUnderItWhenTheDeckComesBack) {
+  const double F = 30, deck = 0.5, dt = 1e-4;
+  TimeStepper sim(scene::loadScene("block_on_cart", {{"force", F}}), twoBodyOptions(dt));
+  double t_left = -1, z_left = 0, vz_left = 0, vx_left = 0, x_left = 0;
+  bool back_under = false;
+  double largest_fall_error = 0, largest_impulse = 0;
+  int steps_over_the_deck = 0;
+  while (sim.time() < 1.2 - 1e-12) {
+    sim.step();
+    const auto& block = sim.contacts()[0];
+    if (t_left < 0) {
+      if (!block.over_plane) t_left = sim.time(), x_left = sim.q()[1], z_left = sim.q()[2], vx_left = sim.v()[1], vz_left = sim.v()[2];
+      continue;
+    }
+    const double t = sim.time() - t_left;
+    // 0.1 s after it left, the cart is pushed back hard: its deck runs back beneath the block.
+    if (t > 0.1) sim.setInput(Eigen::Vector3d(-20 * F, 0, 0));
+    largest_impulse = std::max(largest_impulse, std::abs(block.pn));
+    largest_fall_error = std::max({largest_fall_error, std::abs(sim.q()[2] - (z_left + vz_left * t - 0.5 * kGravity * t * t)),
+                                   std::abs(sim.q()[1] - (x_left + vx_left * t))});
+    const double s = sim.q()[1] - sim.q()[0];
+    if (std::abs(s) < deck - 0.1 && sim.q()[2] < -0.05) back_under = true;
+    steps_over_the_deck += block.over_plane;
+  }
+  ASSERT_GT(t_left, 0) << "the block never left the deck";
+  EXPECT_TRUE(back_under) << "the deck never came back above the block";
+  EXPECT_EQ(steps_over_the_deck, 0);
+  EXPECT_EQ(largest_impulse, 0);
+  EXPECT_LT(largest_fall_error, 1e-9);
+  EXPECT_LT(sim.stats().max_penetration, 1e-9);
+}
+
 // A block dropped onto a slab resting on the ground: the slab stays, the block leaves at e v, and
 // the ground takes (1 + e) m v through the slab.
 TEST(StepperTwoBodies, BlockReboundsFromASlabThatPassesTheImpulseToTheGround) {
