@@ -1,0 +1,236 @@
+"""A seed for the full-body Ollie (`ollie`) from a solution of the point-mass one (`ollie_simple`):
+the board and every contact variable the two problems share (wheels, tail, the feet on the deck:
+reactions, impulses, the free points, friction and slack variables) are copied by name, and the
+rider is fitted to the point masses at every collocation point by inverse kinematics: its feet
+(the shank tips) on the point masses, its centre of mass over their mean as when standing (its
+height weighted lightly: the legs' reach decides it), the torso upright, within the hip and knee
+stops (damped Gauss-Newton, each point's fit starting from the last). Velocities, accelerations and
+velocity jumps follow through the same fit's Jacobian (least squares). The torques start at zero.
+
+The result is an earlier solution of `ollie` on disk (variables.csv), the paper's strategy 4
+with a solution of the simpler model as the earlier one:
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/ollie_retarget.py SIMPLE_DIR --out SEED_DIR
+    saltus optimize ollie --seed-from SEED_DIR --seed-scale 0 --no-hints --out DIR
+
+The fit is kinematic: where the point masses move apart faster than legs can follow, or hold
+themselves up by their forces where a rider would have to jump, the seed is not dynamically
+consistent and the optimiser has to make it so.
+"""
+import argparse
+import os
+import re
+import shutil
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import saltus
+
+SCENE = "skateboard_rider"
+URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "biped", "biped.urdf")
+RIDER = ["rider_x", "rider_z", "rider_theta", "hip_l", "knee_l", "hip_r", "knee_r"]
+FEET = {"foot_r": ("shank_r", "back"), "foot_l": ("shank_l", "front")}  # the back foot is the right one
+SHANK = 0.434  # the foot below the knee (models/biped/biped.urdf) [m]
+# Weights of the fit's residuals against the feet's 1: the centre of mass along x and z, the
+# torso's angle, each joint's change from the previous point.
+W_COM_X, W_COM_Z, W_TORSO, W_REST = 0.3, 0.05, 0.05, 1e-3
+DAMPING = 0.05  # of the rates' least squares [m per rad]
+FEET_FIRST = 10  # the feet's weight in the rates, times the fit's
+MAX_STEP = 0.05  # [m or rad] per Gauss-Newton iteration
+
+
+def read_variables(path):
+    header, values = [], {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                header.append(line)
+            elif not line.startswith("name,"):
+                name, value = line.rstrip("\n").rsplit(",", 1)
+                values[name] = float(value)
+    return header, values
+
+
+def template(problem, set_params):
+    """Every variable of `problem` by name, at its null seed (a zero-iteration solve, saved)."""
+    solution = saltus.optimize(problem, seed_kind="null", hints=False, restarts=0, ipopt={"max_iter": "0"},
+                               task_max_iter=0, tighten_within=0, print_level=0, set=set_params)
+    folder = tempfile.mkdtemp(prefix="saltus_retarget_")
+    try:
+        solution.save(folder)
+        return read_variables(os.path.join(folder, "variables.csv"))
+    finally:
+        shutil.rmtree(folder)
+
+
+def body_masses(urdf):
+    """Mass [kg] and centre of mass in the link frame [m] of every link with mass."""
+    out = {}
+    for link in ET.parse(urdf).getroot().iter("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        xyz = inertial.find("origin").get("xyz").split()
+        out[link.get("name")] = (float(inertial.find("mass").get("value")), np.array([float(c) for c in xyz]))
+    return out
+
+
+class Rider:
+    def __init__(self, model, masses, q0):
+        self.model = model
+        self.names = list(model.coordinate_names)
+        self.cols = [self.names.index(n) for n in RIDER]
+        self.masses = masses
+        self.mass = sum(m for m, _ in masses.values())
+        self.q0 = np.array(q0, dtype=float)
+        self.lower = np.full(len(self.names), -np.inf)
+        self.upper = np.full(len(self.names), np.inf)
+        for joint, (lo, hi) in {"hip": (-np.pi / 2, np.pi / 10), "knee": (0.0, np.pi / 2)}.items():
+            for side in "lr":
+                i = self.names.index(f"{joint}_{side}")
+                self.lower[i], self.upper[i] = lo, hi
+
+    def points(self, q):
+        """The feet and the centre of mass (x, z), and their Jacobians in the rider's coordinates."""
+        rows = []
+        jac = []
+        for body, _ in FEET.values():
+            p = np.array([0.0, 0.0, -SHANK])
+            T = saltus.forward_kinematics(self.model, q)[list(self.model.body_names).index(body)]
+            rows.append((T[:3, :3] @ p + T[:3, 3])[[0, 2]])
+            jac.append(saltus.point_jacobian(self.model, q, body, p)[[0, 2]][:, self.cols])
+        poses = saltus.forward_kinematics(self.model, q)
+        bodies = list(self.model.body_names)
+        com = np.zeros(3)
+        jcom = np.zeros((3, len(self.cols)))
+        for body, (m, c) in self.masses.items():
+            T = poses[bodies.index(body)]
+            com += m * (T[:3, :3] @ c + T[:3, 3])
+            jcom += m * saltus.point_jacobian(self.model, q, body, c)[:, self.cols]
+        rows.append((com / self.mass)[[0, 2]])
+        jac.append((jcom / self.mass)[[0, 2]])
+        return np.concatenate(rows), np.vstack(jac)
+
+    def weights(self):
+        return np.array([1, 1, 1, 1, W_COM_X, W_COM_Z])
+
+    def fit(self, q, targets, iterations=200):
+        """Gauss-Newton on the weighted feet and centre-of-mass residuals, the torso held upright
+        and the joints drawn weakly to where they were, projected into the stops."""
+        q = q.copy()
+        start = q[self.cols].copy()
+        w = self.weights()
+        theta = self.names.index("rider_theta")
+        for _ in range(iterations):
+            x, J = self.points(q)
+            r = np.concatenate([w * (x - targets), [W_TORSO * q[theta]], W_REST * (q[self.cols] - start)])
+            A = np.vstack([w[:, None] * J, W_TORSO * np.eye(len(self.cols))[[2]], W_REST * np.eye(len(self.cols))])
+            step = np.linalg.lstsq(A, -r, rcond=None)[0]
+            step *= min(1.0, MAX_STEP / np.abs(step).max())
+            q[self.cols] += step
+            q = np.clip(q, self.lower, self.upper)
+            if np.linalg.norm(step) < 1e-10:
+                break
+        return q
+
+    def rates(self, q, target_rates):
+        """Coordinate rates that move the fitted points at the given rates: damped least squares
+        with the feet first (their weight FEET_FIRST times the fit's), so that the centre of mass
+        and the torso take what the feet leave; the damping keeps a leg straight or at a stop,
+        whose Jacobian is singular, from turning a rate its foot cannot follow into an infinite
+        one."""
+        _, J = self.points(q)
+        w = self.weights() * np.array([FEET_FIRST] * 4 + [1, 1])
+        n = len(self.cols)
+        A = np.vstack([w[:, None] * J, W_TORSO * np.eye(n)[[2]], DAMPING * np.eye(n)])
+        b = np.concatenate([w * target_rates, [0.0], np.zeros(n)])
+        return np.linalg.lstsq(A, b, rcond=None)[0]
+
+
+def retarget(simple_dir, out_dir, problem_name="ollie"):
+    """Writes out_dir/variables.csv, a seed of `problem_name` from the ollie_simple solution in
+    simple_dir; returns the largest distance of a fitted foot from its point mass [m] and the
+    number of variables copied by name."""
+    simple_header, simple = read_variables(os.path.join(simple_dir, "variables.csv"))
+    source = next(line.split(":", 1)[1].strip() for line in simple_header if line.startswith("# source:"))
+    simple_problem = saltus.load_problem(source.removeprefix("builtin:"))
+    simple_names = list(simple_problem.scene.coordinate_names)
+    header, full = template(problem_name, {})
+    problem = saltus.load_problem(problem_name)
+    model = saltus.Model.from_scene(SCENE)
+    rider = Rider(model, body_masses(URDF), problem.scene.q0)
+    names = rider.names
+    nq = len(names)
+    board = [names.index(n) for n in ("board_x", "board_z", "board_theta")]
+    simple_board = [simple_names.index(n) for n in ("board_x", "board_z", "board_theta")]
+    point = {side: [simple_names.index(f"{side}_x"), simple_names.index(f"{side}_z")] for side in ("back", "front")}
+
+    # Shared variables by name: element lengths and every variable of the shared contacts.
+    shared = 0
+    for name in full:
+        if name in simple and not re.match(r"(q|v|a|dv|u)\[", name):
+            full[name] = simple[name]
+            shared += 1
+
+    def simple_vec(kind, key):
+        return np.array([simple[f"{kind}[{key}].{i}"] for i in range(len(simple_names))])
+
+    def feet(x):
+        return x[point["back"]], x[point["front"]]
+
+    q0 = rider.q0.copy()
+    back0, front0 = feet(simple_vec("q", "1,0"))
+    offset = rider.points(q0)[0][4:] - 0.5 * (back0 + front0)
+
+    def targets(x, with_offset):
+        back, front = feet(x)
+        return np.concatenate([back, front, 0.5 * (back + front) + (offset if with_offset else 0)])
+
+    keys = sorted({m.group(1) for m in (re.match(r"q\[(\d+,\d+)\]", n) for n in full) if m},
+                  key=lambda k: tuple(int(c) for c in k.split(",")))
+    q = q0.copy()
+    worst = 0.0
+    for key in keys:
+        x = simple_vec("q", key)
+        q[board] = x[simple_board]
+        q = rider.fit(q, targets(x, True))
+        worst = max(worst, np.abs(rider.points(q)[0][:4] - targets(x, True)[:4]).max())
+        for i in range(nq):
+            full[f"q[{key}].{i}"] = q[i]
+        # Rates (v, a, dv) through the fit's Jacobian at q.
+        for kind in ("v", "a", "dv"):
+            if f"{kind}[{key}].0" not in simple:
+                continue
+            s = simple_vec(kind, key)
+            rate = np.zeros(nq)
+            rate[board] = s[simple_board]
+            rate[rider.cols] = rider.rates(q, targets(s, False))
+            for i in range(nq):
+                full[f"{kind}[{key}].{i}"] = rate[i]
+
+    os.makedirs(out_dir, exist_ok=True)
+    tmp = os.path.join(out_dir, "variables.csv.tmp")
+    with open(tmp, "w") as f:
+        f.writelines(header)
+        f.write("name,value\n")
+        for name, value in full.items():
+            f.write(f"{name},{value!r}\n")
+    os.replace(tmp, os.path.join(out_dir, "variables.csv"))
+    return worst, shared
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("simple", help="an ollie_simple solution (its --out directory)")
+    ap.add_argument("--out", required=True, help="directory for the seed (variables.csv)")
+    ap.add_argument("--problem", default="ollie", help="the full-body problem (name or file; scene skateboard_rider)")
+    args = ap.parse_args()
+    worst, shared = retarget(args.simple, args.out, args.problem)
+    print(f"{args.out}/variables.csv: {shared} variables copied from {args.simple}; "
+          f"the feet off the point masses by up to {worst:.3f} m")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
