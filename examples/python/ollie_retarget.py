@@ -31,8 +31,7 @@ import saltus
 SCENE = "skateboard_rider"
 URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "biped", "biped.urdf")
 RIDER = ["rider_x", "rider_z", "rider_theta", "hip_l", "knee_l", "hip_r", "knee_r"]
-FEET = {"foot_r": ("shank_r", "back"), "foot_l": ("shank_l", "front")}  # the back foot is the right one
-SHANK = 0.434  # the foot below the knee (models/biped/biped.urdf) [m]
+SHANKS = ("shank_r", "shank_l")  # the back foot's, the front foot's (scene skateboard_rider)
 # Weights of the fit's residuals against the feet's 1: the centre of mass along x and z, the
 # torso's angle, each joint's change from the previous point.
 W_COM_X, W_COM_Z, W_TORSO, W_REST = 0.3, 0.05, 0.05, 1e-3
@@ -65,48 +64,54 @@ def template(problem, set_params):
         shutil.rmtree(folder)
 
 
-def body_masses(urdf):
-    """Mass [kg] and centre of mass in the link frame [m] of every link with mass."""
-    out = {}
-    for link in ET.parse(urdf).getroot().iter("link"):
+def read_urdf(urdf):
+    """From the rider's URDF: each link's mass [kg] and centre of mass in its frame [m], each
+    joint's stops [rad] and each foot's point in its shank's frame [m] (its fixed joint)."""
+    root = ET.parse(urdf).getroot()
+    xyz = lambda element: np.array([float(c) for c in element.find("origin").get("xyz").split()])
+    masses, stops, tips = {}, {}, {}
+    for link in root.iter("link"):
         inertial = link.find("inertial")
-        if inertial is None:
-            continue
-        xyz = inertial.find("origin").get("xyz").split()
-        out[link.get("name")] = (float(inertial.find("mass").get("value")), np.array([float(c) for c in xyz]))
-    return out
+        if inertial is not None:
+            masses[link.get("name")] = (float(inertial.find("mass").get("value")), xyz(inertial))
+    for joint in root.iter("joint"):
+        limit = joint.find("limit")
+        if joint.get("type") == "revolute" and limit is not None:
+            stops[joint.get("name")] = (float(limit.get("lower")), float(limit.get("upper")))
+        if joint.get("type") == "fixed":
+            tips[joint.find("parent").get("link")] = xyz(joint)
+    return masses, stops, tips
 
 
 class Rider:
-    def __init__(self, model, masses, q0):
+    def __init__(self, model, urdf, q0):
         self.model = model
         self.names = list(model.coordinate_names)
+        self.bodies = list(model.body_names)
         self.cols = [self.names.index(n) for n in RIDER]
-        self.masses = masses
-        self.mass = sum(m for m, _ in masses.values())
+        self.masses, stops, tips = read_urdf(urdf)
+        self.tips = [(shank, tips[shank]) for shank in SHANKS]
+        self.mass = sum(m for m, _ in self.masses.values())
         self.q0 = np.array(q0, dtype=float)
         self.lower = np.full(len(self.names), -np.inf)
         self.upper = np.full(len(self.names), np.inf)
-        for joint, (lo, hi) in {"hip": (-np.pi / 2, np.pi / 10), "knee": (0.0, np.pi / 2)}.items():
-            for side in "lr":
-                i = self.names.index(f"{joint}_{side}")
-                self.lower[i], self.upper[i] = lo, hi
+        for joint in RIDER[3:]:
+            i = self.names.index(joint)
+            self.lower[i], self.upper[i] = stops[joint]
 
     def points(self, q):
         """The feet and the centre of mass (x, z), and their Jacobians in the rider's coordinates."""
+        poses = saltus.forward_kinematics(self.model, q)
         rows = []
         jac = []
-        for body, _ in FEET.values():
-            p = np.array([0.0, 0.0, -SHANK])
-            T = saltus.forward_kinematics(self.model, q)[list(self.model.body_names).index(body)]
-            rows.append((T[:3, :3] @ p + T[:3, 3])[[0, 2]])
-            jac.append(saltus.point_jacobian(self.model, q, body, p)[[0, 2]][:, self.cols])
-        poses = saltus.forward_kinematics(self.model, q)
-        bodies = list(self.model.body_names)
+        for shank, tip in self.tips:
+            T = poses[self.bodies.index(shank)]
+            rows.append((T[:3, :3] @ tip + T[:3, 3])[[0, 2]])
+            jac.append(saltus.point_jacobian(self.model, q, shank, tip)[[0, 2]][:, self.cols])
         com = np.zeros(3)
         jcom = np.zeros((3, len(self.cols)))
         for body, (m, c) in self.masses.items():
-            T = poses[bodies.index(body)]
+            T = poses[self.bodies.index(body)]
             com += m * (T[:3, :3] @ c + T[:3, 3])
             jcom += m * saltus.point_jacobian(self.model, q, body, c)[:, self.cols]
         rows.append((com / self.mass)[[0, 2]])
@@ -160,7 +165,7 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
     header, full = template(problem_name, {})
     problem = saltus.load_problem(problem_name)
     model = saltus.Model.from_scene(SCENE)
-    rider = Rider(model, body_masses(URDF), problem.scene.q0)
+    rider = Rider(model, URDF, problem.scene.q0)
     names = rider.names
     nq = len(names)
     board = [names.index(n) for n in ("board_x", "board_z", "board_theta")]
