@@ -52,10 +52,10 @@ def read_variables(path):
     return header, values
 
 
-def template(problem, set_params):
+def template(problem):
     """Every variable of `problem` by name, at its null seed (a zero-iteration solve, saved)."""
     solution = saltus.optimize(problem, seed_kind="null", hints=False, restarts=0, ipopt={"max_iter": "0"},
-                               task_max_iter=0, tighten_within=0, print_level=0, set=set_params)
+                               task_max_iter=0, tighten_within=0, print_level=0)
     folder = tempfile.mkdtemp(prefix="saltus_retarget_")
     try:
         solution.save(folder)
@@ -84,7 +84,7 @@ def read_urdf(urdf):
 
 
 class Rider:
-    def __init__(self, model, urdf, q0):
+    def __init__(self, model, urdf):
         self.model = model
         self.names = list(model.coordinate_names)
         self.bodies = list(model.body_names)
@@ -92,7 +92,6 @@ class Rider:
         self.masses, stops, tips = read_urdf(urdf)
         self.tips = [(shank, tips[shank]) for shank in SHANKS]
         self.mass = sum(m for m, _ in self.masses.values())
-        self.q0 = np.array(q0, dtype=float)
         self.lower = np.full(len(self.names), -np.inf)
         self.upper = np.full(len(self.names), np.inf)
         for joint in RIDER[3:]:
@@ -133,11 +132,11 @@ class Rider:
             r = np.concatenate([w * (x - targets), [W_TORSO * q[theta]], W_REST * (q[self.cols] - start)])
             A = np.vstack([w[:, None] * J, W_TORSO * np.eye(len(self.cols))[[2]], W_REST * np.eye(len(self.cols))])
             step = np.linalg.lstsq(A, -r, rcond=None)[0]
+            if np.linalg.norm(step) < 1e-10:
+                break
             step *= min(1.0, MAX_STEP / np.abs(step).max())
             q[self.cols] += step
             q = np.clip(q, self.lower, self.upper)
-            if np.linalg.norm(step) < 1e-10:
-                break
         return q
 
     def rates(self, q, target_rates):
@@ -162,10 +161,10 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
     source = next(line.split(":", 1)[1].strip() for line in simple_header if line.startswith("# source:"))
     simple_problem = saltus.load_problem(source.removeprefix("builtin:"))
     simple_names = list(simple_problem.scene.coordinate_names)
-    header, full = template(problem_name, {})
+    header, full = template(problem_name)
     problem = saltus.load_problem(problem_name)
     model = saltus.Model.from_scene(SCENE)
-    rider = Rider(model, URDF, problem.scene.q0)
+    rider = Rider(model, URDF)
     names = rider.names
     nq = len(names)
     board = [names.index(n) for n in ("board_x", "board_z", "board_theta")]
@@ -185,7 +184,7 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
     def feet(x):
         return x[point["back"]], x[point["front"]]
 
-    q0 = rider.q0.copy()
+    q0 = np.array(problem.scene.q0, dtype=float)
     back0, front0 = feet(simple_vec("q", "1,0"))
     offset = rider.points(q0)[0][4:] - 0.5 * (back0 + front0)
 
