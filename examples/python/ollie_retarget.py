@@ -5,13 +5,17 @@ rider is fitted to the point masses at every collocation point by inverse kinema
 (the shank tips) on the point masses, its centre of mass over their mean as when standing (its
 height weighted lightly: the legs' reach decides it), the torso upright, within the hip and knee
 stops (damped Gauss-Newton, each point's fit starting from the last). Velocities, accelerations and
-velocity jumps follow through the same fit's Jacobian (least squares). The torques start at zero.
+velocity jumps follow through the same fit's Jacobian (least squares). The inputs are the rider's
+inverse dynamics with each foot bearing the force its point mass bore, clipped to their bounds:
+the joints' torques, and the assist on the rider's base where the problem allows one (`--set
+assist=A`; none in the paper's problem).
 
 The result is an earlier solution of `ollie` on disk (variables.csv), the paper's strategy 4
 with a solution of the simpler model as the earlier one:
 
-    PYTHONPATH=build/python /usr/bin/python3 examples/python/ollie_retarget.py SIMPLE_DIR --out SEED_DIR
-    saltus optimize ollie --seed-from SEED_DIR --seed-scale 0 --no-hints --out DIR
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/ollie_retarget.py SIMPLE_DIR --out SEED_DIR [--set assist=A]
+    saltus optimize ollie --seed-from SEED_DIR --seed-scale 0 --no-hints --feasibility-hessian limited-memory \
+      --ipopt mu_strategy=monotone [--set assist=A] --out DIR
 
 The fit is kinematic: where the point masses move apart faster than legs can follow, or hold
 themselves up by their forces where a rider would have to jump, the seed is not dynamically
@@ -52,10 +56,10 @@ def read_variables(path):
     return header, values
 
 
-def template(problem):
+def template(problem, parameters):
     """Every variable of `problem` by name, at its null seed (a zero-iteration solve, saved)."""
     solution = saltus.optimize(problem, seed_kind="null", hints=False, restarts=0, ipopt={"max_iter": "0"},
-                               task_max_iter=0, tighten_within=0, print_level=0)
+                               task_max_iter=0, tighten_within=0, print_level=0, set=parameters)
     folder = tempfile.mkdtemp(prefix="saltus_retarget_")
     try:
         solution.save(folder)
@@ -153,16 +157,28 @@ class Rider:
         return np.linalg.lstsq(A, b, rcond=None)[0]
 
 
-def retarget(simple_dir, out_dir, problem_name="ollie"):
-    """Writes out_dir/variables.csv, a seed of `problem_name` from the ollie_simple solution in
-    simple_dir; returns the largest distance of a fitted foot from its point mass [m] and the
-    number of variables copied by name."""
+def inverse_dynamics(model, problem, q, v, a, foot_forces, tips):
+    """The rider's inputs that move it at (q, v, a) under the feet's forces (world x, z) [N]: its
+    generalized forces by inverse dynamics (RBDA 5.3), tau = M a + C v + g - sum_i J_i^T f_i, on
+    each input's coordinate, clipped to the input's bounds."""
+    tau = saltus.rnea(model, q, v, a)
+    for (shank, tip), f in zip(tips, foot_forces):
+        tau -= saltus.point_jacobian(model, q, shank, tip)[[0, 2]].T @ f
+    names = list(model.coordinate_names)
+    u = np.array([tau[names.index(n)] for n in problem.inputs])
+    return np.clip(u, problem.input_lower, problem.input_upper)
+
+
+def retarget(simple_dir, out_dir, problem_name="ollie", parameters=None):
+    """Writes out_dir/variables.csv, a seed of `problem_name` (its parameters overridden by
+    `parameters`) from the ollie_simple solution in simple_dir; returns the largest distance of a
+    fitted foot from its point mass [m] and the number of variables copied by name."""
     simple_header, simple = read_variables(os.path.join(simple_dir, "variables.csv"))
     source = next(line.split(":", 1)[1].strip() for line in simple_header if line.startswith("# source:"))
     simple_problem = saltus.load_problem(source.removeprefix("builtin:"))
     simple_names = list(simple_problem.scene.coordinate_names)
-    header, full = template(problem_name)
-    problem = saltus.load_problem(problem_name)
+    header, full = template(problem_name, parameters or {})
+    problem = saltus.load_problem(problem_name, parameters or {})
     model = saltus.Model.from_scene(SCENE)
     rider = Rider(model, URDF)
     names = rider.names
@@ -184,6 +200,12 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
     def feet(x):
         return x[point["back"]], x[point["front"]]
 
+    def put(kind, key, value):
+        for i in range(nq):
+            full[f"{kind}[{key}].{i}"] = value[i]
+
+    mass = simple_problem.parameters["rider_mass"]
+    gravity = np.array(model.gravity)[[0, 2]]
     q0 = np.array(problem.scene.q0, dtype=float)
     back0, front0 = feet(simple_vec("q", "1,0"))
     offset = rider.points(q0)[0][4:] - 0.5 * (back0 + front0)
@@ -201,18 +223,27 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
         q[board] = x[simple_board]
         q = rider.fit(q, targets(x, True))
         worst = max(worst, np.abs(rider.points(q)[0][:4] - targets(x, True)[:4]).max())
-        for i in range(nq):
-            full[f"q[{key}].{i}"] = q[i]
+        put("q", key, q)
         # Rates (v, a, dv) through the fit's Jacobian at q.
+        rates = {}
         for kind in ("v", "a", "dv"):
             if f"{kind}[{key}].0" not in simple:
                 continue
             s = simple_vec(kind, key)
-            rate = np.zeros(nq)
-            rate[board] = s[simple_board]
-            rate[rider.cols] = rider.rates(q, targets(s, False))
-            for i in range(nq):
-                full[f"{kind}[{key}].{i}"] = rate[i]
+            rates[kind] = np.zeros(nq)
+            rates[kind][board] = s[simple_board]
+            rates[kind][rider.cols] = rider.rates(q, targets(s, False))
+            put(kind, key, rates[kind])
+        if "a" in rates:
+            # The inputs by inverse dynamics, each foot bearing the force its point mass did:
+            # m (a - g) - u.
+            u_simple = dict(zip(simple_problem.inputs, (simple[f"u[{key}].{i}"] for i in range(len(simple_problem.inputs)))))
+            a_simple = simple_vec("a", key)
+            forces = [mass * (a_simple[point[side]] - gravity) - np.array([u_simple[f"{side}_x"], u_simple[f"{side}_z"]])
+                      for side in ("back", "front")]
+            u = inverse_dynamics(model, problem, q, rates["v"], rates["a"], forces, rider.tips)
+            for i, value in enumerate(u):
+                full[f"u[{key}].{i}"] = value
 
     os.makedirs(out_dir, exist_ok=True)
     tmp = os.path.join(out_dir, "variables.csv.tmp")
@@ -225,13 +256,25 @@ def retarget(simple_dir, out_dir, problem_name="ollie"):
     return worst, shared
 
 
+def assignment(text):
+    name, equals, value = text.partition("=")
+    try:
+        if not name or not equals:
+            raise ValueError
+        return name, float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected NAME=NUMBER, got '{text}'") from None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("simple", help="an ollie_simple solution (its --out directory)")
     ap.add_argument("--out", required=True, help="directory for the seed (variables.csv)")
     ap.add_argument("--problem", default="ollie", help="the full-body problem (name or file; scene skateboard_rider)")
+    ap.add_argument("--set", action="append", default=[], type=assignment, metavar="NAME=VALUE",
+                    help="override a problem parameter (as saltus optimize --set)")
     args = ap.parse_args()
-    worst, shared = retarget(args.simple, args.out, args.problem)
+    worst, shared = retarget(args.simple, args.out, args.problem, dict(args.set))
     print(f"{args.out}/variables.csv: {shared} variables copied from {args.simple}; "
           f"the feet off the point masses by up to {worst:.3f} m")
 

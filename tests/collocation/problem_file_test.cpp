@@ -439,14 +439,24 @@ TEST(ProblemFile, OllieDrivesTheRiderOnTheBoard) {
   EXPECT_EQ(p.N, 40);
   EXPECT_EQ(p.P, 2);
   EXPECT_EQ(p.h_max, 0.02);
-  ASSERT_EQ(p.inputs.size(), 6u);
+  ASSERT_EQ(p.inputs.size(), 9u);
   const auto& names = p.scene.model.coordinate_name;
-  for (std::size_t i = 0; i < p.inputs.size(); ++i) {
+  for (std::size_t i = 0; i < 6; ++i) {
     const std::string& joint = names[p.inputs[i]];
     const double lower = joint.starts_with("shoulder") ? -60 : joint.starts_with("hip") ? -180 : -150;
     const double upper = joint.starts_with("shoulder") ? 80 : 270;
     EXPECT_EQ(p.input_lower[i], lower) << joint;
     EXPECT_EQ(p.input_upper[i], upper) << joint;
+  }
+  // The assist on the rider's base: none in the paper's problem, `assist` weights of the rider
+  // when set.
+  const Problem assisted = loadProblem("ollie", {{"assist", 2}});
+  for (std::size_t i = 6; i < 9; ++i) {
+    EXPECT_EQ(names[p.inputs[i]], (std::vector<std::string>{"rider_x", "rider_z", "rider_theta"}[i - 6]));
+    EXPECT_EQ(p.input_lower[i], 0);
+    EXPECT_EQ(p.input_upper[i], 0);
+    EXPECT_NEAR(assisted.input_upper[i], 2 * (assisted.scene.model.totalMass() - 2.38) * 9.81, 0.01);  // less the board
+    EXPECT_EQ(assisted.input_lower[i], -assisted.input_upper[i]);
   }
   ASSERT_EQ(p.hints.size(), 1u);
   EXPECT_EQ(p.hints[0].element, 9);  // [10, 0], 0-based

@@ -107,3 +107,34 @@ def test_on_a_steep_board_the_feet_follow_where_legs_reach(steep):
     assert errors[reachable].max() < 5e-3
     assert errors.max() > 0.1
     assert rates >= 0.3 * len(full.t)
+
+
+def test_the_seeds_inputs_are_the_riders_inverse_dynamics(script):
+    """The inputs the script gives a fitted point, against forward dynamics (RBDA's articulated-
+    body algorithm, a second implementation): under the inputs and the feet's forces the rider
+    accelerates as fitted; with the assist at 0 (the paper's problem) its three inputs are 0 and
+    the joints' torques are clipped to their limits."""
+    model = saltus.Model.from_scene("skateboard_rider")
+    names = list(model.coordinate_names)
+    rng = np.random.default_rng(4)
+    problem = saltus.load_problem("ollie", {"assist": 20})
+    q = np.array(problem.scene.q0) + rng.uniform(-0.2, 0.2, len(names))
+    v, a = rng.uniform(-1, 1, len(names)), rng.uniform(-2, 2, len(names))
+    tips = [(shank, np.array([0.0, 0.0, -0.434])) for shank in ("shank_r", "shank_l")]
+    forces = [np.array([60.0, 400.0]), np.array([-30.0, 300.0])]
+    u = script.inverse_dynamics(model, problem, q, v, a, forces, tips)
+    assert np.all(u > problem.input_lower) and np.all(u < problem.input_upper)
+    tau = saltus.rnea(model, q, v, a)  # the board: moved as given by a force of its own
+    rider = [names.index(n) for n in problem.inputs]
+    tau[rider] = u
+    assert len(set(rider)) == 9 and set(range(3, 12)) == set(rider)  # every rider coordinate has an input
+    for (shank, tip), f in zip(tips, forces):
+        tau += saltus.point_jacobian(model, q, shank, tip)[[0, 2]].T @ f
+    tau[[names.index(n) for n in ("board_x", "board_z", "board_theta")]] = saltus.rnea(model, q, v, a)[:3]
+    np.testing.assert_allclose(saltus.aba(model, q, v, tau), a, atol=1e-9)
+
+    paper = saltus.load_problem("ollie")
+    clipped = script.inverse_dynamics(model, paper, q, v, 50 * a, forces, tips)
+    assert np.all(clipped[6:] == 0)
+    assert np.all(clipped >= paper.input_lower) and np.all(clipped <= paper.input_upper)
+    assert np.any(clipped == paper.input_lower) or np.any(clipped == paper.input_upper)
