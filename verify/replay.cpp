@@ -231,7 +231,8 @@ void addRestarts(OptimisedGrid& g, const CollocationTrajectory& traj, double dt,
 }
 
 // The optimised events: closings on the grid, impacts from the velocity jumps (put on the scene
-// contact with the largest impulse there; a jump at a limit stop only is not a contact event).
+// contact with the largest impulse there; a jump whose largest impulse is a limit stop's is not a
+// contact event, even where a scene contact carries a trace of one).
 std::vector<ContactEvent> optimisedEvents(const SavedSolution& solution, const CollocationTrajectory& traj,
                                           const OptimisedGrid& grid, const ReplayOptions& options,
                                           ContactKinematics& kin) {
@@ -242,12 +243,12 @@ std::vector<ContactEvent> optimisedEvents(const SavedSolution& solution, const C
     int contact = -1;
     double largest = 0;
     const collocation::ElementLayout& L = solution.transcription->layout()[j.element];
-    for (int c = 0; c < nc; ++c) {
+    for (int c = 0; c < static_cast<int>(L.contacts.size()); ++c) {  // the scene's contacts, then the stops
       const int rn = L.contacts[c].rn.empty() ? -1 : L.contacts[c].rn[0];
       const double p = rn >= 0 ? std::abs(solution.x[rn]) : 0.0;
-      if (p > largest) contact = c, largest = p;  // −1 when no scene contact carries an impulse
+      if (p > largest) contact = c, largest = p;  // −1 when nothing carries an impulse
     }
-    if (contact < 0) continue;
+    if (contact < 0 || contact >= nc) continue;
     const collocation::TrajectoryPoint before = traj.at(j.t, Side::Before);
     kin.set(before.q, before.v);
     const bool no_approach = kin.gap(contact) <= options.gap_threshold && kin.vn(contact) > -options.approach_threshold;
