@@ -221,6 +221,35 @@ TEST_P(LeggedSolution, ReplayedWithPdTrackingInSaltusAndBulletTheJointsStayClose
   }
 }
 
+// A saved solution drawn from the side, the bodies alone (no surfaces, no shadows).
+struct SideView {
+  SideView(const std::string& dir, int width, int height, double fps)
+      : input(saltus::openSolution(dir)),
+        options(optionsOf(width, height, fps)),
+        animation(input.scene, *input.trajectory, options, warnings),
+        settings(bodiesOnly(animation.settings())),
+        renderer(animation.geometry(), settings) {}
+  static render::AnimationOptions optionsOf(int width, int height, double fps) {
+    render::AnimationOptions o;
+    o.width = width;
+    o.height = height;
+    o.fps = fps;
+    o.camera = render::CameraMode::Side;
+    return o;
+  }
+  static render::RenderSettings bodiesOnly(render::RenderSettings s) {
+    s.surfaces = false;
+    s.shadows = false;
+    return s;
+  }
+  saltus::RenderInput input;
+  render::AnimationOptions options;
+  std::ostringstream warnings;
+  render::Animation animation;
+  render::RenderSettings settings;
+  render::Renderer renderer;
+};
+
 // The image column of a world point (look-at camera, focal length (H/2)/tan(fov/2)).
 double projectedColumn(const render::Camera& c, const Eigen::Vector3d& p, int width, int height) {
   const Eigen::Vector3d f = (c.target - c.eye).normalized(), r = f.cross(c.up).normalized();
@@ -229,18 +258,12 @@ double projectedColumn(const render::Camera& c, const Eigen::Vector3d& p, int wi
 }
 
 TEST_P(LeggedSolution, DrawnFromTheSideTheRobotIsWhereTheTrajectoryPutsIt) {
-  const saltus::RenderInput input = saltus::openSolution(solutionDir(GetParam()));
-  render::AnimationOptions options;
-  options.width = 240;
-  options.height = 135;
-  options.fps = 4;
-  options.camera = render::CameraMode::Side;
-  std::ostringstream warnings;
-  const render::Animation animation(input.scene, *input.trajectory, options, warnings);
-  render::RenderSettings settings = animation.settings();
-  settings.surfaces = false;
-  settings.shadows = false;
-  render::Renderer renderer(animation.geometry(), settings);
+  SideView view(solutionDir(GetParam()), 240, 135, 4);
+  const saltus::RenderInput& input = view.input;
+  const render::AnimationOptions& options = view.options;
+  const render::Animation& animation = view.animation;
+  const render::RenderSettings& settings = view.settings;
+  render::Renderer& renderer = view.renderer;
   const int x = input.scene.model.coordinateIndex("base_x"), y = input.scene.model.coordinateIndex("base_y"),
             z = input.scene.model.coordinateIndex("base_z");
   auto base = [&](double t) {
@@ -364,10 +387,9 @@ TEST_P(OllieSolution, ReplayedElementByElementTheTricksImpactsRecurInSaltusAndBu
 }
 
 // The image row of a world point (look-at camera, as projectedColumn).
-double projectedRow(const render::Camera& c, const Eigen::Vector3d& p, int width, int height) {
+double projectedRow(const render::Camera& c, const Eigen::Vector3d& p, int height) {
   const Eigen::Vector3d f = (c.target - c.eye).normalized(), r = f.cross(c.up).normalized(), up = r.cross(f);
   const Eigen::Vector3d d = p - c.eye;
-  (void)width;
   return height / 2.0 - (height / 2.0) / std::tan(c.fov_y / 2) * d.dot(up) / d.dot(f);
 }
 
@@ -385,18 +407,12 @@ int lowestDrawnRow(const std::vector<std::uint8_t>& rgb, int width, int height, 
 // the air at the air goal's mesh point: the drawing's lowest pixel at the ground's projected row,
 // then above it by most of the wheels' clearance.
 TEST_P(OllieSolution, DrawnFromTheSideTheBoardIsInTheAirAtTheGoal) {
-  const saltus::RenderInput input = saltus::openSolution(solutionDir(GetParam()));
-  render::AnimationOptions options;
-  options.width = 320;
-  options.height = 240;
-  options.fps = 100;
-  options.camera = render::CameraMode::Side;
-  std::ostringstream warnings;
-  const render::Animation animation(input.scene, *input.trajectory, options, warnings);
-  render::RenderSettings settings = animation.settings();
-  settings.surfaces = false;
-  settings.shadows = false;
-  render::Renderer renderer(animation.geometry(), settings);
+  SideView view(solutionDir(GetParam()), 320, 240, 100);
+  const saltus::RenderInput& input = view.input;
+  const render::AnimationOptions& options = view.options;
+  const render::Animation& animation = view.animation;
+  const render::RenderSettings& settings = view.settings;
+  render::Renderer& renderer = view.renderer;
   double goal = -1;  // [20, 0], the air goal's mesh point: both wheels at least 0.2 m up
   for (const collocation::Sample& s : collocation::trajectory(transcription(), solution_->x))
     if (s.element == 19 && s.point == 0) goal = s.t;
@@ -417,8 +433,8 @@ TEST_P(OllieSolution, DrawnFromTheSideTheBoardIsInTheAirAtTheGoal) {
     const Eigen::VectorXd q = input.trajectory->q(animation.time(frame));
     const Eigen::Vector3d under(q[board_x], 0, 0), up_there(q[board_x], 0, 0.2);
     const render::Camera camera = animation.camera(frame);
-    const double ground = projectedRow(camera, under, options.width, options.height);
-    clearance[k] = ground - projectedRow(camera, up_there, options.width, options.height);  // 0.2 m in pixels
+    const double ground = projectedRow(camera, under, options.height);
+    clearance[k] = ground - projectedRow(camera, up_there, options.height);  // 0.2 m in pixels
     above[k] = ground - (lowest + 1);  // the drawing's bottom edge above the ground's row [pixels]
   }
   std::cout << GetParam() << ": the drawing's lowest pixel " << above[0] << " pixels above the ground at the start, "
