@@ -1,7 +1,6 @@
 """examples/python/continuation.py: a problem solved at a sequence of one parameter's values, each
 step seeded by the last one's solution; on the drop (a step of its height changes its initial
 state, so a solution at one height is not one at another)."""
-import importlib.util
 import json
 import os
 
@@ -11,11 +10,8 @@ import saltus
 
 @pytest.fixture(scope="module")
 def script():
-    from conftest import ROOT
-    spec = importlib.util.spec_from_file_location("continuation", ROOT / "examples/python/continuation.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    from conftest import example
+    return example("continuation")
 
 
 def summary(folder):

@@ -3,7 +3,6 @@ full-body one (`ollie`). Two point-mass motions: the saved level-board solution
 (tests/data/solutions/ollie_simple_level), which legs can follow throughout, and the simulation
 seed of the shipped schedule (its board stands at -1 rad in the air, the point masses up to
 0.4 m apart in height: out of the legs' reach there), saved as a solution without iterations."""
-import importlib.util
 
 import numpy as np
 import pytest
@@ -14,11 +13,8 @@ NO_ITERATIONS = dict(restarts=0, ipopt={"max_iter": "0"}, task_max_iter=0, tight
 
 @pytest.fixture(scope="module")
 def script():
-    from conftest import ROOT
-    spec = importlib.util.spec_from_file_location("ollie_retarget", ROOT / "examples/python/ollie_retarget.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    from conftest import example
+    return example("ollie_retarget")
 
 
 def retarget_of(script, folder, simple_dir):
