@@ -458,6 +458,14 @@ TEST(ProblemFile, OllieDrivesTheRiderOnTheBoard) {
     EXPECT_NEAR(assisted.input_upper[i], 2 * (assisted.scene.model.totalMass() - 2.38) * 9.81, 0.01);  // less the board
     EXPECT_EQ(assisted.input_lower[i], -assisted.input_upper[i]);
   }
+  // One axis's bound set alone (a continuation removes the horizontal force first); the other two
+  // keep `assist`.
+  const Problem no_x = loadProblem("ollie", {{"assist", 2}, {"assist_x", 0}});
+  EXPECT_EQ(no_x.input_upper[6], 0);
+  EXPECT_EQ(no_x.input_lower[6], 0);
+  EXPECT_EQ(no_x.input_upper[7], assisted.input_upper[7]);
+  EXPECT_EQ(no_x.input_upper[8], assisted.input_upper[8]);
+  EXPECT_NEAR(loadProblem("ollie", {{"assist_theta", 0.5}}).input_upper[8], assisted.input_upper[8] / 4, 1e-9);
   ASSERT_EQ(p.hints.size(), 1u);
   EXPECT_EQ(p.hints[0].element, 9);  // [10, 0], 0-based
   int air = 0;
