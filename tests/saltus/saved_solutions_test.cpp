@@ -127,7 +127,7 @@ TEST_P(SavedSolutionTest, EveryConditionOfTheProblemFileHolds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Benchmarks, SavedSolutionTest,
-                         ::testing::Values("biped_stop_impulsive", "monopod_turn_impulsive", "ollie_assist_0.5"));
+                         ::testing::Values("biped_stop_impulsive", "monopod_turn_impulsive", "ollie_assist_0.5", "ollie_assist_0.03125"));
 
 class LeggedSolution : public SavedSolutionTest {};
 
