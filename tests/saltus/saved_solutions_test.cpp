@@ -5,15 +5,17 @@
 // of the problem file met. The legged ones (biped_stop_impulsive, monopod_turn_impulsive): replayed
 // in Saltus' time-stepper and in Bullet with PD tracking, the deviations reported and tracking
 // holding the joints closer than open loop; the ground's impulse carrying the weight; drawn, the
-// robot where the trajectory puts it. The full-body Ollie (ollie_assist_0.5): the horizontal
-// momentum of board and rider changed by the assist alone (the ground is frictionless); replayed
-// element by element in both engines with the trick's contact events (tail strike, landing)
-// recurring; drawn, the board in the air at the air goal.
+// robot where the trajectory puts it. The full-body Ollie (ollie_impulsive, the paper's problem;
+// ollie_assist_0.5, with an assist on the rider's base): the horizontal momentum of board and
+// rider changed by the assist alone (the ground is frictionless; without an assist, constant);
+// replayed element by element in both engines with the trick's contact events (tail strike,
+// landing) recurring; drawn, the board in the air at the air goal.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -127,7 +129,8 @@ TEST_P(SavedSolutionTest, EveryConditionOfTheProblemFileHolds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Benchmarks, SavedSolutionTest,
-                         ::testing::Values("biped_stop_impulsive", "monopod_turn_impulsive", "ollie_assist_0.5", "ollie_assist_0.03125"));
+                         ::testing::Values("biped_stop_impulsive", "monopod_turn_impulsive", "ollie_assist_0.5",
+                                           "ollie_assist_0.03125", "ollie_impulsive"));
 
 class LeggedSolution : public SavedSolutionTest {};
 
@@ -333,58 +336,108 @@ TEST_P(OllieSolution, TheHorizontalMomentumChangesByTheAssistAlone) {
   EXPECT_LT(worst_element, 0.01 * weight_impulse);
 }
 
-// Replayed element by element (from the optimised state at every mesh point, so that the
-// rider's unstable balance does not carry one element's error into the next), the trick's
-// impacts on the ground recur in Saltus' time-stepper and in Bullet within the match window
-// (10 ms) — the tail strike and the landing — and both wheels touch down after the air goal;
-// every coordinate stays within 0.1 m or rad of the optimised one. Every optimised impact is at
-// a closed contact: a velocity jump at a joint stop is no scene contact's event, even where a
-// wheel in the air carries a trace of an impulse (the solver's complementarity tolerance).
-TEST_P(OllieSolution, ReplayedElementByElementTheTricksImpactsRecurInSaltusAndBullet) {
+// An element-by-element replay of a saved Ollie (from the optimised state at every mesh point,
+// so that the rider's unstable balance does not carry one element's error into the next) in
+// Saltus' time-stepper and in Bullet, with the optimised trajectory's samples.
+struct OllieReplay {
+  verify::ReplayResult result;
+  double goal = 0;  // [20, 0], the air goal's mesh time
+  std::vector<collocation::Sample> samples;
+  static const std::vector<std::string>& ground() {
+    static const std::vector<std::string> names = {"rear_wheel", "front_wheel", "tail"};
+    return names;
+  }
+  bool onGround(const verify::EventMatch& m) const {
+    const std::string& contact = result.contacts[static_cast<std::size_t>(m.optimised.contact)];
+    return std::find(ground().begin(), ground().end(), contact) != ground().end();
+  }
+};
+
+// Replayed once per solution for the tests below (a replay of the Ollie takes seconds).
+const OllieReplay& replayOllie(const std::string& name, const collocation::Transcription& t, const Eigen::VectorXd& x) {
+  static std::map<std::string, OllieReplay> replays;
+  if (const auto found = replays.find(name); found != replays.end()) return found->second;
   verify::ReplayOptions o;
   o.engines = {verify::EngineKind::Saltus, verify::EngineKind::Bullet};
   o.restart = verify::Restart::Mesh;
   o.max_series = 200;
-  const verify::ReplayResult r = saltus::replay(solutionDir(GetParam()), o);
+  OllieReplay r{saltus::replay(solutionDir(name), o), 0, collocation::trajectory(t, x)};
+  if (r.result.mesh_times.size() > 20) r.goal = r.result.mesh_times[19];
+  return replays.emplace(name, std::move(r)).first->second;
+}
+
+// Replayed element by element, the trick recurs in Saltus' time-stepper and in Bullet within the
+// match window (10 ms): the tail strike before the air goal and the first landing on a wheel
+// after it, and both wheels touch down after the goal. Every optimised impact is at a closed
+// contact: a velocity jump at a joint stop is no scene contact's event, even where a wheel in the
+// air carries a trace of an impulse (the solver's complementarity tolerance).
+TEST_P(OllieSolution, ReplayedElementByElementTheTrickRecursInSaltusAndBullet) {
+  const OllieReplay& replay = replayOllie(GetParam(), transcription(), solution_->x);
+  const verify::ReplayResult& r = replay.result;
   ASSERT_EQ(r.engines.size(), 2u);
   ASSERT_GT(r.mesh_times.size(), 20u);
-  const double goal = r.mesh_times[19];  // [20, 0]
-  const std::vector<collocation::Sample> samples = collocation::trajectory(transcription(), solution_->x);
   for (const verify::ContactEvent& ev : r.optimised_events) {
     if (ev.kind != verify::ContactEvent::Impact && ev.kind != verify::ContactEvent::ImpactWithoutCollision) continue;
-    const auto before = std::find_if(samples.begin(), samples.end(), [&](const collocation::Sample& s) {
+    const auto before = std::find_if(replay.samples.begin(), replay.samples.end(), [&](const collocation::Sample& s) {
       return std::abs(s.t - ev.t) < 1e-9;
     });
-    ASSERT_NE(before, samples.end()) << "an impact at a mesh point, t = " << ev.t;
+    ASSERT_NE(before, replay.samples.end()) << "an impact at a mesh point, t = " << ev.t;
     EXPECT_LT(before->contacts[static_cast<std::size_t>(ev.contact)].gap, 1e-3)
         << verify::eventKindName(ev.kind) << " of " << r.contacts[static_cast<std::size_t>(ev.contact)] << " at " << ev.t;
   }
-  const std::vector<std::string> ground = {"rear_wheel", "front_wheel", "tail"};
   for (const verify::EngineReplay& e : r.engines) {
     const std::string engine = verify::engineName(e.engine);
     EXPECT_TRUE(e.completed) << engine << ": " << e.message;
-    bool strike = false, landing = false, rear = false, front = false;
+    const verify::EventMatch* strike = nullptr;
+    const verify::EventMatch* landing = nullptr;
+    bool rear = false, front = false;
     for (const verify::EventMatch& m : e.matches) {
+      if (!replay.onGround(m)) continue;
       const std::string& contact = r.contacts[static_cast<std::size_t>(m.optimised.contact)];
-      if (std::find(ground.begin(), ground.end(), contact) == ground.end()) continue;
-      if (m.optimised.kind == verify::ContactEvent::Touchdown && m.optimised.t > goal) {
+      if (m.optimised.kind == verify::ContactEvent::Touchdown && m.optimised.t > replay.goal) {
         rear = rear || (contact == "rear_wheel" && m.matched);
         front = front || (contact == "front_wheel" && m.matched);
       }
       if (m.optimised.kind != verify::ContactEvent::Impact) continue;
-      EXPECT_TRUE(m.matched) << engine << ": the impact of " << contact << " at " << m.optimised.t << " s";
-      std::cout << GetParam() << ", " << engine << ": the impact of " << contact << " at " << m.optimised.t
-                << " s, replayed " << (m.matched ? std::to_string(m.dt) + " s from it" : "not within the window") << "\n";
-      strike = strike || (contact == "tail" && m.optimised.t < goal);
-      landing = landing || (contact != "tail" && m.optimised.t > goal);
+      if (contact == "tail" && m.optimised.t < replay.goal && strike == nullptr) strike = &m;
+      if (contact != "tail" && m.optimised.t > replay.goal && landing == nullptr) landing = &m;
     }
-    EXPECT_TRUE(strike && landing) << engine << ": the tail strike before the air goal and a landing after it";
+    ASSERT_NE(strike, nullptr) << "the optimised trajectory strikes the tail before the air goal";
+    ASSERT_NE(landing, nullptr) << "the optimised trajectory lands on a wheel after the air goal";
+    EXPECT_TRUE(strike->matched) << engine << ": the tail strike at " << strike->optimised.t << " s";
+    EXPECT_TRUE(landing->matched) << engine << ": the landing at " << landing->optimised.t << " s";
+    std::cout << GetParam() << ", " << engine << ": the tail strike at " << strike->optimised.t << " s, replayed "
+              << strike->dt << " s from it; the landing of " << r.contacts[static_cast<std::size_t>(landing->optimised.contact)]
+              << " at " << landing->optimised.t << " s, " << landing->dt << " s; largest deviation " << e.max_position_deviation
+              << " at t = " << e.t_max_position_deviation << " s\n";
     EXPECT_TRUE(rear && front) << engine << ": both wheels touch down after the air goal";
+  }
+}
+
+class OllieReplayedClosely : public OllieSolution {};
+
+// And where the element-by-element replay holds to the end (ollie_assist_0.5; not the paper's
+// problem, whose final landing of the back foot on the deck the engines resolve ahead of the
+// optimiser's mesh point: README), every one of the optimised impacts on the ground recurs within
+// the match window and every coordinate stays within 0.1 m or rad of the optimised one.
+TEST_P(OllieReplayedClosely, EveryImpactOnTheGroundRecursAndNoCoordinateStrays) {
+  const OllieReplay& replay = replayOllie(GetParam(), transcription(), solution_->x);
+  ASSERT_EQ(replay.result.engines.size(), 2u);
+  for (const verify::EngineReplay& e : replay.result.engines) {
+    const std::string engine = verify::engineName(e.engine);
+    for (const verify::EventMatch& m : e.matches) {
+      if (!replay.onGround(m) || m.optimised.kind != verify::ContactEvent::Impact) continue;
+      EXPECT_TRUE(m.matched) << engine << ": the impact of "
+                             << replay.result.contacts[static_cast<std::size_t>(m.optimised.contact)] << " at "
+                             << m.optimised.t << " s";
+    }
     std::cout << GetParam() << ", " << engine << ": largest deviation " << e.max_position_deviation << " at t = "
               << e.t_max_position_deviation << " s, penetration " << e.max_penetration << " m\n";
     EXPECT_LT(e.max_position_deviation, 0.1) << engine;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Benchmarks, OllieReplayedClosely, ::testing::Values("ollie_assist_0.5"));
 
 // The image row of a world point (look-at camera, as projectedColumn).
 double projectedRow(const render::Camera& c, const Eigen::Vector3d& p, int height) {
@@ -444,6 +497,6 @@ TEST_P(OllieSolution, DrawnFromTheSideTheBoardIsInTheAirAtTheGoal) {
   EXPECT_GT(above[1], 0.6 * clearance[1]);
 }
 
-INSTANTIATE_TEST_SUITE_P(Benchmarks, OllieSolution, ::testing::Values("ollie_assist_0.5"));
+INSTANTIATE_TEST_SUITE_P(Benchmarks, OllieSolution, ::testing::Values("ollie_assist_0.5", "ollie_impulsive"));
 
 }  // namespace
