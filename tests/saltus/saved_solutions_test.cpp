@@ -417,8 +417,8 @@ TEST_P(OllieSolution, ReplayedElementByElementTheTrickRecursInSaltusAndBullet) {
 class OllieReplayedClosely : public OllieSolution {};
 
 // And where the element-by-element replay holds to the end (ollie_assist_0.5; not the paper's
-// problem, whose final landing of the back foot on the deck the engines resolve ahead of the
-// optimiser's mesh point: README), every one of the optimised impacts on the ground recurs within
+// problem, whose back foot's last landing on the deck the engines resolve otherwise than the
+// optimiser: README), every one of the optimised impacts on the ground recurs within
 // the match window and every coordinate stays within 0.1 m or rad of the optimised one.
 TEST_P(OllieReplayedClosely, EveryImpactOnTheGroundRecursAndNoCoordinateStrays) {
   const OllieReplay& replay = replayOllie(GetParam(), transcription(), solution_->x);
