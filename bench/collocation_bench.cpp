@@ -61,5 +61,7 @@ SALTUS_EVALUATE_ALL(pendulum_conveyor, Impulsive);
 SALTUS_EVALUATE_ALL(pendulum_conveyor, FirstOrder);
 SALTUS_EVALUATE_ALL(point_mass_throw, Impulsive);
 SALTUS_EVALUATE_ALL(point_mass_throw, Continuous);
+SALTUS_EVALUATE_ALL(biped_stop, Impulsive);
+SALTUS_EVALUATE_ALL(ollie, Impulsive);
 
 }  // namespace

@@ -2,7 +2,8 @@
 // each folder's README says how it was made): every condition recomputed from the state, not read
 // from the solver's constraint values — no penetration (the gap from the kinematics), each reaction
 // inside its friction cone, the joint stops and the torque limits respected, every task condition
-// of the problem file met. The legged ones (biped_stop_impulsive, monopod_turn_impulsive): replayed
+// of the problem file met, every velocity jump removing kinetic energy and leaving its contacts
+// closed. The legged ones (biped_stop_impulsive, monopod_turn_impulsive): replayed
 // in Saltus' time-stepper and in Bullet with PD tracking, the deviations reported and tracking
 // holding the joints closer than open loop; the ground's impulse carrying the weight; drawn, the
 // robot where the trajectory puts it. The full-body Ollie (ollie_impulsive, the paper's problem;
@@ -126,6 +127,55 @@ TEST_P(SavedSolutionTest, EveryConditionOfTheProblemFileHolds) {
   const collocation::Sample& first = samples.front();
   EXPECT_LT((first.q - problem().scene.q0).cwiseAbs().maxCoeff(), kTol);
   EXPECT_LT((first.v - problem().scene.v0).cwiseAbs().maxCoeff(), kTol);
+}
+
+// Every velocity jump is an inelastic or partly elastic impact, which cannot add kinetic energy
+// (with one contact of e ≤ 1 or only frictionless plastic ones it removes it; the impulses
+// without collision at closed contacts do no work). And each impulse leaves its contact closed and
+// not approaching: the normal velocity after the jump, from the kinematics, at least 0, and 0 where
+// the contact is plastic (e = 0). The energy is ½ Σ vᵢᵀ Iᵢ vᵢ over the bodies (RBDA 2.67), from
+// the state on each side of the jump.
+TEST_P(SavedSolutionTest, EveryVelocityJumpDissipatesAndLeavesItsContactsClosed) {
+  const collocation::Transcription& t = transcription();
+  const auto& model = t.models().model<double>();
+  auto& data = t.models().data<double>();
+  const std::vector<collocation::Sample> samples = collocation::trajectory(t, solution_->x);
+  const auto energy = [&](const collocation::Sample& s) {
+    dynamics::forwardKinematics(model, data, s.q, s.v);
+    return dynamics::kineticEnergy(model, data);
+  };
+  const double tolerance = problem().complementarity_tolerance;
+  int jumps = 0, impulses = 0;
+  double largest_product = 0, largest_gain = -std::numeric_limits<double>::infinity(), largest_loss = 0, loss_at = 0;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    const collocation::Sample &before = samples[k - 1], &after = samples[k];
+    if (after.point != 0 || after.element == 0) continue;
+    ASSERT_EQ(before.t, after.t);  // [n, 0] follows [n − 1, P + 1]: the two sides of the jump
+    ++jumps;
+    const double e0 = energy(before), e1 = energy(after);
+    largest_gain = std::max(largest_gain, e1 - e0);
+    if (e0 - e1 > largest_loss) largest_loss = e0 - e1, loss_at = after.t;
+    // The relaxed complementarity (products up to 1e-4) leaves impulses of millinewton-seconds at
+    // open contacts: 1e-6 of the energy or 1e-4 J.
+    EXPECT_LE(e1 - e0, 1e-4 + 1e-6 * e0) << "at t = " << after.t;
+    for (std::size_t c = 0; c < t.contacts().size(); ++c) {
+      const double pn = after.contacts[c].pn, vn = after.contacts[c].vn;
+      if (pn < 1e-2) continue;
+      ++impulses;
+      // Closed and not approaching, each to the relaxed complementarity's scale: its products
+      // with the impulse within the tolerance, as the solver bounds them.
+      const double closed = pn * std::abs(after.contacts[c].gap), approaching = pn * std::max(0.0, -vn);
+      const double leaving = t.contacts()[c].restitution == 0 ? pn * std::max(0.0, vn) : 0.0;
+      largest_product = std::max({largest_product, closed, approaching, leaving});
+      EXPECT_LE(closed, tolerance) << "contact " << c << " at t = " << after.t << ", impulse " << pn;
+      EXPECT_LE(approaching, tolerance) << "contact " << c << " at t = " << after.t << ", impulse " << pn;
+      EXPECT_LE(leaving, tolerance) << "contact " << c << " at t = " << after.t << ", impulse " << pn;
+    }
+  }
+  EXPECT_GT(jumps, 0);
+  std::cout << GetParam() << ": " << jumps << " jumps, " << impulses << " impulses of at least 0.01 N s; largest gain "
+            << largest_gain << " J, largest loss " << largest_loss << " J at t = " << loss_at
+            << "; largest product of an impulse with its gap or normal velocity " << largest_product << "\n";
 }
 
 INSTANTIATE_TEST_SUITE_P(Benchmarks, SavedSolutionTest,
