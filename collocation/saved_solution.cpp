@@ -220,7 +220,7 @@ Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolutio
   Eigen::VectorXd x = target.nullSeed();
   if (src.method() == target.method() && src.variableNames() == target.variableNames()) {
     x = earlier.x;
-    target.projectIntoBounds(x);
+    target.makeConsistent(x);
     return x;
   }
   const int nv = target.problem().scene.model.nv();

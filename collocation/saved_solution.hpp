@@ -63,8 +63,7 @@ void checkSameProblem(const SavedSolution& solution, bool allow_changed_problem)
 std::filesystem::path solutionFile(const std::string& path);
 
 // A starting point for `target` from an earlier solution. With the same method and the same
-// variables (same mesh, scene and contacts) the values are copied by name and only projected into
-// the target's bounds (Transcription::projectIntoBounds: its gaps kept, not recomputed); otherwise states,
+// variables (same mesh, scene and contacts) the values are copied by name; otherwise states,
 // accelerations and inputs are sampled from the earlier collocation polynomials at the target's
 // points (the earlier element lengths when the element counts match, else T / N; clamped to
 // their bounds), velocity jumps at the target's mesh

@@ -153,20 +153,12 @@ class Transcription {
   // Gap variables set from the positions (clipped at 0), variables projected into bounds, and
   // each penalty variable ε set to its product A·B (at least 0).
   void makeConsistent(Eigen::VectorXd& x) const;
-  // Variables projected into their bounds and each penalty variable ε raised to its product A·B
-  // where it is below it; the gaps and auxiliaries left as they are. For a point that is already
-  // consistent to the constraint tolerance (an earlier solution), which makeConsistent would move:
-  // its gap variables meet y = φ(q) to 1e-5 m, and set from the kinematics they give products of
-  // 1e-2 under reactions of 1,000 N.
-  void projectIntoBounds(Eigen::VectorXd& x) const;
   // The minimise-max variable x_m set to the largest value of its coordinate over the points: its
   // least value that meets q_i ≤ x_m, which is the task cost of a point whose stage did not
   // minimise it (a feasibility stage's). Nothing without a minimise-max cost.
   void tightenMaxVariable(Eigen::VectorXd& x) const;
 
  private:
-  // Each ε at its product A·B (at least 0), or raised to it only (raise_only).
-  void setPenaltyVariables(Eigen::VectorXd& x, bool raise_only) const;
   int addVariables(int count, double lower, double upper, const std::string& name);
   int addBlock(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, double lower, double upper,
                const std::string& name);

@@ -72,23 +72,12 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
       }
     }
   // Each penalty variable at its product (eq. 8: A·B ≤ ε holds at the start).
-  setPenaltyVariables(x, false);
-}
-
-void Transcription::setPenaltyVariables(Eigen::VectorXd& x, bool raise_only) const {
-  Eigen::VectorXd local;
   for (std::size_t i = 0; i < product_blocks_.size(); ++i) {
     const Block& blk = blocks_[product_blocks_[i]];
     local.resize(blk.vars.size());
     for (std::size_t j = 0; j < blk.vars.size(); ++j) local[j] = x[blk.vars[j]];
-    const double product = std::max(0.0, static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
-    x[epsilon_[i]] = raise_only ? std::max(x[epsilon_[i]], product) : product;
+    x[epsilon_[i]] = std::max(0.0, static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
   }
-}
-
-void Transcription::projectIntoBounds(Eigen::VectorXd& x) const {
-  x = x.cwiseMax(x_lower_hint_).cwiseMin(x_upper_hint_);
-  setPenaltyVariables(x, true);
 }
 
 Eigen::VectorXd Transcription::nullSeed() const {
