@@ -132,9 +132,9 @@ TEST_P(SavedSolutionTest, EveryConditionOfTheProblemFileHolds) {
 // Every velocity jump is an inelastic or partly elastic impact, which cannot add kinetic energy
 // (with one contact of e ≤ 1 or only frictionless plastic ones it removes it; the impulses
 // without collision at closed contacts do no work). And each impulse leaves its contact closed and
-// not approaching: the normal velocity after the jump, from the kinematics, at least 0, and 0 where
-// the contact is plastic (e = 0). The energy is ½ Σ vᵢᵀ Iᵢ vᵢ over the bodies (RBDA 2.67), from
-// the state on each side of the jump.
+// not approaching: the gap and the normal velocity after the jump, from the kinematics, 0 (at
+// least 0 where the contact restitutes, e > 0), to the relaxed complementarity's scale. The energy
+// is ½ Σ vᵢᵀ Iᵢ vᵢ over the bodies (RBDA 2.67), from the state on each side of the jump.
 TEST_P(SavedSolutionTest, EveryVelocityJumpDissipatesAndLeavesItsContactsClosed) {
   const collocation::Transcription& t = transcription();
   const auto& model = t.models().model<double>();
