@@ -1,8 +1,6 @@
 // Problem files (collocation/problem_file.hpp) and the method names (problem.hpp): the built-in
 // problems with their documented values and --set overrides, every key of the format on a full
-// fixture (1-based elements in the file, 0-based in Problem), and one test per kind of bad input
-// (tests/data/problems/), each checking that the message names the file, the line and the key
-// path.
+// fixture (1-based elements in the file, 0-based in Problem). Bad input: problem_file_errors_test.cpp.
 #include "collocation/problem_file.hpp"
 
 #include <gtest/gtest.h>
@@ -40,16 +38,6 @@ constexpr double kPi = std::numbers::pi;
 std::string errorOf(const std::function<void()>& f) { return testing::expectedMessageOf<ScenarioError>(f); }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
-// 1-based number of the first line of `path` containing `text`.
-int lineOf(const std::string& path, const std::string& text) {
-  std::ifstream in(path);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n)
-    if (contains(line, text)) return n;
-  ADD_FAILURE() << path << " has no line containing '" << text << "'";
-  return -1;
-}
 
 // The gap of contact i at configuration q.
 double gap(const scene::Scene& s, int i, const Eigen::VectorXd& q) {
@@ -165,7 +153,7 @@ TEST(ProblemFile, OverrideOutsideTheValidRangeIsCaught) {
 TEST(ProblemFile, UnknownOverrideListsTheParameters) {
   const std::string what = errorOf([] { loadProblem("pendulum_conveyor", {{"belt_sped", 1.0}}); });
   EXPECT_TRUE(contains(what, kProblemDir + "pendulum_conveyor.yaml:" +
-                                 std::to_string(lineOf(kProblemDir + "pendulum_conveyor.yaml", "parameters:")) + ":"))
+                                 std::to_string(testing::lineOf(kProblemDir + "pendulum_conveyor.yaml", "parameters:")) + ":"))
       << what;
   EXPECT_TRUE(contains(what, "did you mean 'belt_speed'")) << what;
   EXPECT_TRUE(contains(what, "friction, belt_speed, theta1_0, theta2_0")) << what;
@@ -343,7 +331,7 @@ TEST_F(FullProblem, FinalConditionsAtTheLastMeshPoint) {
   ASSERT_NE(q, nullptr);
   EXPECT_EQ(q->lower, 0.0);
   EXPECT_EQ(q->upper, 0.0);
-  EXPECT_EQ(q->origin, path_ + ":" + std::to_string(lineOf(path_, "q: {pris: 0}")));
+  EXPECT_EQ(q->origin, path_ + ":" + std::to_string(testing::lineOf(path_, "q: {pris: 0}")));
   const PointBound* v = find(p_.bounds, K::Velocity, coordinate("rev"), last, end);
   ASSERT_NE(v, nullptr);
   EXPECT_EQ(v->lower, -1.0);
@@ -514,96 +502,6 @@ TEST(ProblemFile, ASceneFromItsOwnFile) {
   std::ofstream(dir / "board.yaml", std::ios::app) << "# changed\n";
   EXPECT_NE(loadProblem((dir / "problem.yaml").string()).fingerprint, before);
   std::filesystem::remove_all(dir);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Bad input: the message names the file, the line marked `# <-- error` in the fixture, the key
-// path and what was expected.
-
-std::string expectError(const std::string& fixture, const std::string& key_path,
-                        const std::vector<std::string>& parts) {
-  const std::string path = kDataDir + fixture;
-  const std::string what = errorOf([&] { loadProblem(path); });
-  const std::string where = path + ":" + std::to_string(lineOf(path, "# <-- error")) + ":";
-  EXPECT_EQ(what.rfind(where, 0), 0u) << "expected to start with " << where << "\n" << what;
-  EXPECT_TRUE(contains(what, ": " + key_path + ": ")) << key_path << "\n" << what;
-  for (const std::string& p : parts) EXPECT_TRUE(contains(what, p)) << p << "\n" << what;
-  return what;
-}
-
-TEST(ProblemFileErrors, UnknownHessian) {
-  expectError("bad_hessian.yaml", "solve.feasibility_hessian",
-              {"unknown hessian 'limited_memory'", "did you mean 'limited-memory'", "expected one of: exact, limited-memory"});
-}
-TEST(ProblemFileErrors, SceneKeyBesideASceneFile) {
-  expectError("scene_reference_with_model.yaml", "model", {"the scene comes from 'skateboard'", "none of its keys"});
-}
-TEST(ProblemFileErrors, SceneFileThatDoesNotExist) {
-  expectError("scene_reference_missing.yaml", "scene", {"skateborad", "did you mean 'skateboard'"});
-}
-TEST(ProblemFileErrors, ParameterThatShadowsTheScenes) {
-  expectError("scene_reference_shadow.yaml", "parameters.friction", {"'friction' is a parameter of", "skateboard.yaml"});
-}
-TEST(ProblemFileErrors, UnknownKey) {
-  expectError("unknown_key.yaml", "mesh.h_mx", {"unknown key 'h_mx'", "did you mean 'h_max'", "expected one of: N, P"});
-}
-TEST(ProblemFileErrors, QuaternionBaseIsRefused) {
-  expectError("quaternion_base.yaml", "base", {"quaternion base", "use base: free"});
-}
-TEST(ProblemFileErrors, UnknownTopLevelKey) {
-  expectError("unknown_top_key.yaml", "constraint", {"unknown key 'constraint'", "did you mean 'constraints'"});
-}
-TEST(ProblemFileErrors, ElementOutOfRange) {
-  expectError("at_out_of_range.yaml", "constraints[1].at", {"element 21 is not in [1, 20]", "numbered from 1"});
-}
-TEST(ProblemFileErrors, PointOutOfRange) {
-  expectError("point_out_of_range.yaml", "hints[0].at", {"point 5 is not in [0, 4]"});
-}
-TEST(ProblemFileErrors, RangeThatRunsBackwards) {
-  expectError("range_backwards.yaml", "constraints[0].to", {"[5, 1] comes before from: [5, 2]"});
-}
-TEST(ProblemFileErrors, RangeAndAtTogether) {
-  expectError("range_and_at.yaml", "constraints[0].at", {"either at: [n, p] or from: [n, p] and to: [n, p]"});
-}
-TEST(ProblemFileErrors, SurfaceStepNotAtAMeshPoint) {
-  expectError("surface_step_not_mesh_point.yaml", "surface_velocity.belt[1].at", {"[n, 0]", "got point 2"});
-}
-TEST(ProblemFileErrors, UnknownCoordinate) {
-  expectError("unknown_coordinate.yaml", "final.q.zz", {"unknown coordinate 'zz'", "did you mean 'z'", "x, z"});
-}
-TEST(ProblemFileErrors, UnknownContactInGap) {
-  expectError("unknown_contact.yaml", "constraints[0].gap.bal", {"unknown contact 'bal'", "did you mean 'ball'"});
-}
-TEST(ProblemFileErrors, MissingN) {
-  expectError("missing_n.yaml", "mesh.N", {"missing required key 'N'"});
-}
-TEST(ProblemFileErrors, BadP) {
-  expectError("bad_p.yaml", "mesh.P", {"[1, 9]", "got 12"});
-}
-TEST(ProblemFileErrors, TimeScheduledSurfaceNeedsSurfaceVelocity) {
-  expectError("time_scheduled_surface.yaml", "surfaces[0].velocity_schedule[1].time",
-              {"surface 'belt'", "t = 0.1 s", "element lengths are variables", "surface_velocity.belt"});
-}
-TEST(ProblemFileErrors, SeedSolutionWithoutPath) {
-  expectError("seed_solution_missing.yaml", "solve.seed_solution", {"seed: solution needs seed_solution"});
-}
-TEST(ProblemFileErrors, DurationRefused) {
-  expectError("duration.yaml", "duration", {"no fixed duration", "mesh.total_time"});
-}
-TEST(ProblemFileErrors, InputRefused) {
-  expectError("input.yaml", "input", {"no constant input", "inputs"});
-}
-TEST(ProblemFileErrors, BoundOnAnUnactuatedCoordinate) {
-  expectError("not_an_input.yaml", "bounds.u.z", {"'z' is not actuated", "the inputs are: x"});
-}
-TEST(ProblemFileErrors, LowerAboveUpper) {
-  expectError("bad_range.yaml", "bounds.q.x", {"lower bound 1 exceeds the upper bound -1"});
-}
-TEST(ProblemFileErrors, UnreachableTotalTime) {
-  expectError("unreachable_total_time.yaml", "mesh.total_time.at_least", {"cannot be reached", "N h_max = 0.2"});
-}
-TEST(ProblemFileErrors, UnknownSurface) {
-  expectError("unknown_surface.yaml", "surface_velocity.groud", {"unknown surface 'groud'", "did you mean 'ground'"});
 }
 
 }  // namespace

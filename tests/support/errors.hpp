@@ -2,6 +2,7 @@
 // input checks.
 #pragma once
 
+#include <fstream>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -32,6 +33,17 @@ std::string expectedMessageOf(const std::function<void()>& f) {
   std::string message = messageOf<E>(f, &thrown);
   if (!thrown) ADD_FAILURE() << "no exception of the expected type thrown";
   return message;
+}
+
+// 1-based number of the first line of `path` containing `text` (the line an error message should
+// name), or a test failure and −1.
+inline int lineOf(const std::string& path, const std::string& text) {
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (line.find(text) != std::string::npos) return n;
+  ADD_FAILURE() << path << " has no line containing '" << text << "'";
+  return -1;
 }
 
 inline std::string invalidArgumentOf(const std::function<void()>& f) {
