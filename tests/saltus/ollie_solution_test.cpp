@@ -171,13 +171,6 @@ TEST_P(OllieReplayedClosely, EveryImpactOnTheGroundRecursAndNoCoordinateStrays) 
 
 INSTANTIATE_TEST_SUITE_P(Benchmarks, OllieReplayedClosely, ::testing::Values("ollie_assist_0.5"));
 
-// The image row of a world point (look-at camera, as projectedColumn).
-double projectedRow(const render::Camera& c, const Eigen::Vector3d& p, int height) {
-  const Eigen::Vector3d f = (c.target - c.eye).normalized(), r = f.cross(c.up).normalized(), up = r.cross(f);
-  const Eigen::Vector3d d = p - c.eye;
-  return height / 2.0 - (height / 2.0) / std::tan(c.fov_y / 2) * d.dot(up) / d.dot(f);
-}
-
 // The lowest row of the frame's drawing (surfaces and shadows off: the board and the rider).
 int lowestDrawnRow(const std::vector<std::uint8_t>& rgb, int width, int height, const Eigen::Vector3f& background) {
   for (int y = height - 1; y >= 0; --y) {

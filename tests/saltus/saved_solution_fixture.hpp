@@ -76,5 +76,11 @@ inline double projectedColumn(const render::Camera& c, const Eigen::Vector3d& p,
   return width / 2.0 + (height / 2.0) / std::tan(c.fov_y / 2) * d.dot(r) / d.dot(f);
 }
 
+// The image row of a world point (look-at camera, as projectedColumn).
+inline double projectedRow(const render::Camera& c, const Eigen::Vector3d& p, int height) {
+  const Eigen::Vector3d f = (c.target - c.eye).normalized(), r = f.cross(c.up).normalized(), up = r.cross(f);
+  const Eigen::Vector3d d = p - c.eye;
+  return height / 2.0 - (height / 2.0) / std::tan(c.fov_y / 2) * d.dot(up) / d.dot(f);
+}
 
 }  // namespace saltus::saved_solutions
