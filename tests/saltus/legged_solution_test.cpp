@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -23,17 +24,6 @@ using namespace saltus::saved_solutions;
 using collocation::Quantity;
 
 class LeggedSolution : public SavedSolutionTest {};
-
-// The centre of mass's velocity: its derivative along q̇ (= v: both bases are joints, planar or
-// Euler angles), by central differences.
-Eigen::Vector3d comVelocity(const dynamics::Model<double>& model, dynamics::Data<double>& data, const Eigen::VectorXd& q,
-                            const Eigen::VectorXd& v) {
-  const double eps = 1e-6;
-  dynamics::forwardKinematics(model, data, Eigen::VectorXd(q + eps * v));
-  const Eigen::Vector3d plus = dynamics::centerOfMass(model, data);
-  dynamics::forwardKinematics(model, data, Eigen::VectorXd(q - eps * v));
-  return (plus - dynamics::centerOfMass(model, data)) / (2 * eps);
-}
 
 // The feet carry the robot: over the motion the ground's vertical impulse (its impulses at the
 // mesh points and its forces integrated by each element's Gauss rule) equals gravity's plus the

@@ -8,14 +8,13 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "collocation/solution.hpp"
-#include "dynamics/crba.hpp"
-#include "dynamics/energy.hpp"
 #include "tests/saltus/saved_solution_fixture.hpp"
 #include "tests/support/pixels.hpp"
 

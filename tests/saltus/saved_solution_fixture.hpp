@@ -1,7 +1,7 @@
 // The fixture of the saved solutions' tests (saved_solutions_test.cpp, legged_solution_test.cpp,
 // ollie_solution_test.cpp): a benchmark's saved solution (tests/data/solutions/<name>, each
 // folder's README says how it was made), refused when its problem has changed since; and a side
-// view of it drawn offscreen.
+// view of it drawn offscreen; the centre of mass's velocity.
 #pragma once
 
 #include <cmath>
@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "collocation/saved_solution.hpp"
+#include "dynamics/energy.hpp"
 #include "render/animation.hpp"
 #include "render/renderer.hpp"
 #include "saltus/build_paths.hpp"
@@ -39,6 +40,17 @@ class SavedSolutionTest : public ::testing::TestWithParam<const char*> {
 // Tolerances: the solver's constraint violation tolerance (1e-5) and the complementarity
 // tolerance's scale; a reaction's cone and a bound are checked relative to their size.
 inline constexpr double kTol = 1e-5;
+
+// The centre of mass's velocity: its derivative along q̇ (= v: both bases are joints, planar or
+// Euler angles), by central differences.
+inline Eigen::Vector3d comVelocity(const dynamics::Model<double>& model, dynamics::Data<double>& data, const Eigen::VectorXd& q,
+                                   const Eigen::VectorXd& v) {
+  const double eps = 1e-6;
+  dynamics::forwardKinematics(model, data, Eigen::VectorXd(q + eps * v));
+  const Eigen::Vector3d plus = dynamics::centerOfMass(model, data);
+  dynamics::forwardKinematics(model, data, Eigen::VectorXd(q - eps * v));
+  return (plus - dynamics::centerOfMass(model, data)) / (2 * eps);
+}
 
 // A saved solution drawn from the side, the bodies alone (no surfaces, no shadows).
 struct SideView {

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
-#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
