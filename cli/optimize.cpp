@@ -64,6 +64,13 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
     }
   }
   options.seed_from = opt.seed_from;
+  if (!opt.seed_method.empty()) {
+    try {
+      options.seed_method = parseMethod(opt.seed_method);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--seed-method: ") + e.what());
+    }
+  }
   options.seed_inputs = opt.seed_inputs;
   options.seed_scale = opt.seed_scale;
   options.restarts = opt.restarts;
@@ -148,6 +155,12 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
             << opt.out << "\n";
   if (!r.note.empty()) std::cerr << "saltus optimize: " << r.note << "\n";
   if (!o.seed_fallback.empty()) std::cerr << "saltus optimize: " << o.seed_fallback << "\n";
+  if (o.seed_solve) {
+    const SolveReport& s = o.seed_solve->report;
+    std::cerr << "saltus optimize: started from the " << toString(o.seed_solve->transcription->method()) << " solve ("
+              << (s.feasible ? "feasible" : "NOT feasible") << ", largest product " << s.largest_product << ", "
+              << s.iterations << " iterations, " << s.wall_seconds << " s, counted above)\n";
+  }
   for (const HintReach& h : o.hints)
     if (!h.reachable)
       std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1
@@ -172,6 +185,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "initial guess: null, perturbed (the null guess plus random values), simulation (the time-stepper's "
                   "motion, mesh on its impacts) or perturbed-simulation (plus random values)");
   app->add_option("--seed-from", opt->seed_from, "start from an earlier solution (its --out directory), perturbed by the seed scale");
+  app->add_option("--seed-method", opt->seed_method,
+                  "solve first with this method (from the seed the other options describe), then start this solve "
+                  "from its solution: e.g. --method impulsive --seed-method first-order");
   app->add_option("--seed-inputs", opt->seed_inputs,
                   "an input schedule (CSV: t and a u.<input> column per input, held from each row to the next; the "
                   "last row's time is the horizon) that drives the simulation seed in place of zero inputs");

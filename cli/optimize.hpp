@@ -17,6 +17,7 @@ struct OptimizeCliOptions {
   std::optional<unsigned> seed;
   std::string seed_kind;
   std::string seed_from;
+  std::string seed_method;  // --seed-method: a first solve with this method seeds this one
   std::string seed_inputs;
   std::optional<double> seed_scale;
   std::optional<int> restarts;

@@ -169,7 +169,7 @@ void bindOptimize(py::module_& m) {
       "optimize",
       [](const py::object& problem, const std::string& method, std::optional<int> N, std::optional<int> P,
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
-         const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
+         std::optional<std::string> seed_method, const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
          std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
          std::optional<int> task_max_iter, bool hints, bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
@@ -180,6 +180,13 @@ void bindOptimize(py::module_& m) {
         o.random_seed = seed;
         if (seed_kind) o.seed_kind = collocation::parseSeedKind(*seed_kind);
         o.seed_from = seed_from;
+        if (seed_method) {
+          try {
+            o.seed_method = collocation::parseMethod(*seed_method);
+          } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string("seed_method: ") + e.what());
+          }
+        }
         o.seed_inputs = seed_inputs;
         o.seed_scale = seed_scale;
         o.restarts = restarts;
@@ -234,13 +241,14 @@ void bindOptimize(py::module_& m) {
       },
       py::arg("problem"), py::kw_only(), py::arg("method") = "impulsive", py::arg("N") = py::none(),
       py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
-      py::arg("seed_from") = "", py::arg("seed_inputs") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
+      py::arg("seed_from") = "", py::arg("seed_method") = py::none(), py::arg("seed_inputs") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
       py::arg("task_max_iter") = py::none(), py::arg("hints") = true, py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},
       "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
-      "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize`. An "
+      "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize` (seed_method: "
+      "a first solve with that method seeds this one, --seed-method). An "
       "infeasible solve is a Solution with feasible False (require_feasible=True raises saltus.SolveError "
       "instead). The GIL is released while Ipopt runs; Ctrl-C stops the solve and raises KeyboardInterrupt.");
 }

@@ -34,6 +34,14 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
       throw std::invalid_argument("seed_kind: not with seed_from (which starts from a solution)");
     problem.seed_kind = *options.seed_kind;
   }
+  if (options.seed_method && *options.seed_method == options.method)
+    throw std::invalid_argument(std::string("seed_method: expected another method than the solve's own (") +
+                                toString(options.method) + ")");
+  if (options.seed_method && !options.seed_from.empty())
+    throw std::invalid_argument("seed_method: not with seed_from (which names the solution to start from)");
+  if (options.seed_method)
+    if (const std::string why = methodCannotTake(problem, *options.seed_method); !why.empty())
+      throw std::invalid_argument("seed_method: " + why);
   if (!options.seed_from.empty()) {
     problem.seed_kind = SeedKind::Solution;
     problem.seed_solution = options.seed_from;
@@ -64,6 +72,20 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   return problem;
 }
 
+namespace {
+
+// The seed_method's solution as a solution on disk would be read back (saved_solution.hpp).
+SavedSolution inMemory(const OptimizeResult& r) {
+  SavedSolution s;
+  s.file = "the " + std::string(toString(r.transcription->method())) + " solve";
+  s.problem = std::make_unique<Problem>(r.problem());
+  s.transcription = std::make_unique<Transcription>(*s.problem, r.transcription->method());
+  s.x = r.report.x;
+  return s;
+}
+
+}  // namespace
+
 OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
   OptimizeResult o;
   o.problem_ptr = std::make_shared<const Problem>(adjustedProblem(problem, options));
@@ -71,13 +93,32 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
   o.transcription = transcription;
   const Transcription& t = *transcription;
   const Problem& adjusted = *o.problem_ptr;
-  const Seeding seeding = makeSeeding(t);
-  o.simulation_seed = seeding.simulation;
-  o.seed_fallback = seeding.fallback;
   SolveOptions solve = options.solve;
-  solve.restarts = seeding.restarts;
+  if (options.seed_method) {
+    OptimizeOptions first = options;
+    first.method = *options.seed_method;
+    first.seed_method.reset();
+    try {
+      o.seed_solve = std::make_shared<const OptimizeResult>(optimize(problem, first));
+    } catch (const std::invalid_argument& e) {  // what the seed method cannot represent
+      throw std::invalid_argument(std::string("seed_method: ") + e.what());
+    }
+    if (o.seed_solve->report.interrupted) return *o.seed_solve;
+    const Eigen::VectorXd x0 = seedFromSolution(t, inMemory(*o.seed_solve));
+    solve.restarts = 0;  // the earlier solution, unperturbed: every attempt would be the same
+    solve.warm_seed = true;
+    o.report = collocation::solve(t, x0, solve);
+    o.report.iterations += o.seed_solve->report.iterations;
+    o.report.wall_seconds += o.seed_solve->report.wall_seconds;
+    o.report.evaluation_seconds += o.seed_solve->report.evaluation_seconds;
+  } else {
+    const Seeding seeding = makeSeeding(t);
+    o.simulation_seed = seeding.simulation;
+    o.seed_fallback = seeding.fallback;
+    solve.restarts = seeding.restarts;
+    o.report = collocation::solve(t, seeding.seed, solve);
+  }
   o.tighten_within = solve.tighten_within;
-  o.report = collocation::solve(t, seeding.seed, solve);
   o.samples = trajectory(t, o.report.x);
   o.mean_local_error = meanLocalError(t, o.report.x);
   if (!o.report.feasible && !o.report.interrupted && !adjusted.hints.empty()) {
@@ -113,6 +154,18 @@ std::string summaryJson(const OptimizeResult& o) {
                             {"events", o.simulation_seed.events},
                             {"passes", o.simulation_seed.iterations}};
   if (!o.seed_fallback.empty()) j["seed_fallback"] = o.seed_fallback;
+  if (o.seed_solve) {  // a two-step solve: the first solve's figures (counted in the totals below)
+    const SolveReport& s = o.seed_solve->report;
+    j["seed_method"] = toString(o.seed_solve->transcription->method());
+    j["seed_solve"] = {{"feasible", s.feasible},
+                       {"status", s.stages.empty() ? std::string() : s.stages.back().status},
+                       {"largest_product", s.largest_product},
+                       {"objective", s.objective},
+                       {"iterations", s.iterations},
+                       {"wall_seconds", s.wall_seconds},
+                       {"evaluation_seconds", s.evaluation_seconds},
+                       {"mean_local_error", o.seed_solve->mean_local_error}};
+  }
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;

@@ -143,6 +143,11 @@ struct OptimizeOptions {
   std::optional<unsigned> random_seed;          // of the initial guess's perturbation
   std::optional<collocation::SeedKind> seed_kind;  // null, perturbed, simulation, perturbed-simulation
   std::string seed_from;                        // start from an earlier solution (its folder)
+  // A two-step solve: first with this method from the seed the other options describe, then
+  // this solve from its solution (collocation/saved_solution.hpp's seedFromSolution: states,
+  // accelerations and inputs resampled), unperturbed. Another method than `method`; not with
+  // seed_from.
+  std::optional<collocation::Method> seed_method;
   std::string seed_inputs;                      // an input schedule driving a simulation seed (its CSV)
   std::optional<double> seed_scale;             // size of the random perturbation (≥ 0)
   std::optional<int> restarts;                  // further attempts after an infeasible end (≥ 0)
@@ -171,6 +176,9 @@ struct OptimizeResult {
   // An infeasible solve with hints: whether the problem's own motion could meet them.
   std::vector<collocation::HintReach> hints;
   std::string hints_not_checked;  // why they could not be checked
+  // The seed_method's solve this one started from (null without one). The report's iterations,
+  // wall and evaluation seconds count both solves; its stages are this solve's.
+  std::shared_ptr<const OptimizeResult> seed_solve;
 
   const collocation::Problem& problem() const { return *problem_ptr; }
   bool feasible() const { return report.feasible; }

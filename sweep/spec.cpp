@@ -185,9 +185,9 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
   for (std::size_t i = 0; i < methods.size(); ++i) {
     const std::string at = scene::indexPath("methods", i), m = r.text(methods[i], at);
     try {
-      collocation::parseMethod(m);
-    } catch (const std::invalid_argument&) {
-      r.fail(methods[i], at, "expected impulsive, continuous or first-order, got '" + m + "'");
+      splitMethod(m);
+    } catch (const std::invalid_argument& e) {
+      r.fail(methods[i], at, e.what());
     }
     if (std::find(spec.methods.begin(), spec.methods.end(), m) != spec.methods.end())
       r.fail(methods[i], at, "the method " + m + " is listed twice");
@@ -236,6 +236,23 @@ SweepSpec readSweepSpec(const std::string& path) {
   return parseSweepSpec(text.str(), path);
 }
 
+MethodLabel splitMethod(const std::string& label) {
+  const std::string expected = "expected impulsive, continuous or first-order, or 'M from S' (M solved from S's "
+                               "solution), got '" + label + "'";
+  MethodLabel m;
+  const std::size_t from = label.find(" from ");
+  m.method = label.substr(0, from);
+  if (from != std::string::npos) m.seed_method = label.substr(from + 6);
+  try {
+    const collocation::Method solve = collocation::parseMethod(m.method);
+    if (!m.seed_method.empty() && collocation::parseMethod(m.seed_method) == solve)
+      throw std::invalid_argument("'" + label + "': a method cannot seed itself");
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string(e.what()).find("seed itself") != std::string::npos ? e.what() : expected);
+  }
+  return m;
+}
+
 std::string SweepCase::cell() const {
   std::string s = problem_name + " " + method;
   for (const auto& [name, value] : set) s += " " + name + "=" + formatValue(value);
@@ -243,7 +260,9 @@ std::string SweepCase::cell() const {
 }
 
 std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, const std::string& out) const {
-  std::vector<std::string> a = {"optimize", problem, "--method", method, "--seed", std::to_string(seed)};
+  const MethodLabel m = splitMethod(method);
+  std::vector<std::string> a = {"optimize", problem, "--method", m.method, "--seed", std::to_string(seed)};
+  if (!m.seed_method.empty()) a.insert(a.end(), {"--seed-method", m.seed_method});
   for (const auto& [name, value] : set) a.insert(a.end(), {"--set", name + "=" + formatValue(value)});
   if (o.N) a.insert(a.end(), {"--N", std::to_string(*o.N)});
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
@@ -293,14 +312,17 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCel
         throw scene::ScenarioError(where + (set.empty() ? "" : " with " + set) + ": " + e.what());
       }
       for (const std::string& method : spec.methods) {
-        if (const std::string why = collocation::methodCannotTake(problem, collocation::parseMethod(method));
-            !why.empty()) {
+        const MethodLabel label = splitMethod(method);
+        std::string why = collocation::methodCannotTake(problem, collocation::parseMethod(label.method));
+        if (why.empty() && !label.seed_method.empty())
+          why = collocation::methodCannotTake(problem, collocation::parseMethod(label.seed_method));
+        if (!why.empty()) {
           if (first_reason.empty()) first_reason = where + ", method " + method + ": " + why;
           if (skipped) skipped->push_back({problem.name, method, values, why});
           continue;
         }
         try {
-          const collocation::Transcription check(problem, collocation::parseMethod(method));
+          const collocation::Transcription check(problem, collocation::parseMethod(label.method));
         } catch (const std::invalid_argument& e) {
           throw scene::ScenarioError(where + ", method " + method + ": " + e.what());
         }
@@ -312,7 +334,7 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCel
           c.set = values;
           c.seed = seed;
           c.physical_required = spec.physical_success;
-          c.id = sanitise(problem.name) + "__" + method;
+          c.id = sanitise(problem.name) + "__" + sanitise(method);
           for (const auto& [name, value] : values) c.id += "__" + sanitise(name + "=" + formatValue(value));
           c.id += "__seed=" + std::to_string(seed);
           if (!ids.insert(c.id).second)

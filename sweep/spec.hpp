@@ -3,7 +3,7 @@
 // YAML spec (format in the README, "saltus sweep"):
 //
 //   problems: [point_mass_drop, drops/drop.yaml]   # built-in names or files (relative to the spec)
-//   methods: [impulsive, first-order]
+//   methods: [impulsive, first-order, impulsive from first-order]  # the last a two-step solve
 //   set: {restitution: [0, 0.5], height: [0.05, 0.3]}  # every combination, for every problem
 //   seeds: {from: 1, count: 10}                         # or a list [1, 2, 7]
 //   options: {N: 20, restarts: 0}                        # passed to every solve
@@ -71,12 +71,20 @@ struct SweepSpec {
   bool physical_success = true;
 };
 
+// A method of the grid as listed: "M" (saltus optimize --method M) or "M from S", a two-step
+// solve: S from the sweep's seed, then M from S's solution (--method M --seed-method S). Throws
+// std::invalid_argument for anything else, or M and S the same.
+struct MethodLabel {
+  std::string method, seed_method;  // seed_method empty for a single solve
+};
+MethodLabel splitMethod(const std::string& label);
+
 // One solve of the grid.
 struct SweepCase {
   std::string id;       // directory name under DIR/runs, unique and stable across runs of a spec
   std::string problem;  // as passed to saltus optimize
   std::string problem_name;  // the problem's `name`
-  std::string method;
+  std::string method;  // as listed: "M" or "M from S" (splitMethod)
   std::map<std::string, double> set;  // the grid's values (sorted by name)
   unsigned seed = 1;
   bool physical_required = true;  // the spec's success rule (SweepSpec::physical_success)

@@ -125,6 +125,17 @@ TEST(Optimize, BadInputNamesWhatWasExpected) {
   r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=many", "--out", dir.string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("expected an integer"), std::string::npos) << r.err;
+  // A two-step solve's first method: a method, another than --method, able to take the problem.
+  r = runSaltus({"optimize", "point_mass_drop", "--seed-method", "euler", "--out", dir.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--seed-method: "), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--seed-method", "impulsive", "--out", dir.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--seed-method: expected another method than the solve's own (impulsive)"), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--set", "restitution=0.5", "--seed-method", "first-order", "--out",
+                 dir.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--seed-method: the first-order method cannot represent restitution"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir));
 }
 

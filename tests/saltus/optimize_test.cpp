@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -114,6 +115,66 @@ TEST_F(ApiOptimize, AMethodThatCannotRepresentTheProblemIsRefused) {
   EXPECT_THROW(saltus::optimize(problem, options), std::invalid_argument);
 }
 
+// adjustedProblem's refusal of the options, or "accepted".
+std::string adjustError(const saltus::collocation::Problem& problem, const saltus::OptimizeOptions& options) {
+  try {
+    saltus::adjustedProblem(problem, options);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// A two-step solve (OptimizeOptions::seed_method) is the first method's solve, then the second
+// method's from its solution as --seed-from would give it (unperturbed): the same point to the
+// last digit. Both cut at 20 iterations of the feasibility stage (the second solve starts from the
+// first's end, feasible or not); the result counts both solves.
+TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
+  const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_throw", {});
+  saltus::OptimizeOptions options;
+  options.seed_method = saltus::collocation::Method::FirstOrder;
+  options.restarts = 0;
+  options.solve.ipopt["max_iter"] = "20";
+  options.solve.tighten_within = 0;
+  options.solve.task_max_iter = 0;
+  const saltus::OptimizeResult r = saltus::optimize(problem, options);
+  EXPECT_EQ(r.transcription->method(), saltus::collocation::Method::Impulsive);
+  ASSERT_TRUE(r.seed_solve);
+  EXPECT_EQ(r.seed_solve->transcription->method(), saltus::collocation::Method::FirstOrder);
+  const fs::path dir = fs::temp_directory_path() / ("saltus_api_two_step_" + std::to_string(::getpid()));
+  saltus::saveSolution(dir.string(), *r.seed_solve);
+  saltus::OptimizeOptions by_hand = options;
+  by_hand.seed_method.reset();
+  by_hand.seed_from = dir.string();
+  by_hand.seed_scale = 0;
+  const saltus::OptimizeResult second = saltus::optimize(problem, by_hand);
+  fs::remove_all(dir);
+  ASSERT_EQ(second.report.x.size(), r.report.x.size());
+  EXPECT_EQ((second.report.x - r.report.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(second.report.stages.front().iterations, r.report.stages.front().iterations);
+  int own = 0;
+  for (const auto& s : r.report.stages) own += s.iterations;
+  EXPECT_EQ(r.report.iterations, own + r.seed_solve->report.iterations);
+  EXPECT_GT(r.report.wall_seconds, r.seed_solve->report.wall_seconds);
+  const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(r));
+  EXPECT_EQ(j.at("seed_method"), "first-order");
+  EXPECT_EQ(j.at("seed_solve").at("iterations").get<int>(), r.seed_solve->report.iterations);
+  EXPECT_EQ(j.at("seed_solve").at("feasible").get<bool>(), r.seed_solve->feasible());
+  EXPECT_EQ(j.at("iterations").get<int>(), r.report.iterations);
+  // Without a seed method, no such keys.
+  EXPECT_FALSE(nlohmann::json::parse(saltus::summaryJson(*r.seed_solve)).contains("seed_solve"));
+
+  saltus::OptimizeOptions same;
+  same.seed_method = saltus::collocation::Method::Impulsive;
+  EXPECT_EQ(adjustError(problem, same), "seed_method: expected another method than the solve's own (impulsive)");
+  saltus::OptimizeOptions both = options;
+  both.seed_from = "/some/solution";
+  EXPECT_EQ(adjustError(problem, both).rfind("seed_method: not with seed_from", 0), 0u);
+  const saltus::collocation::Problem bouncing = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  EXPECT_EQ(adjustError(bouncing, options).rfind("seed_method: the first-order method cannot represent restitution", 0), 0u)
+      << adjustError(bouncing, options);
+}
+
 TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
   const saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {});
   saltus::OptimizeOptions options;
@@ -143,14 +204,7 @@ TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
   unhinted.hints = false;
   EXPECT_TRUE(saltus::adjustedProblem(hinted, unhinted).hints.empty());
   EXPECT_EQ(saltus::adjustedProblem(hinted, unhinted).bounds.size(), hinted.bounds.size());
-  auto message = [&](const saltus::OptimizeOptions& o) {
-    try {
-      saltus::adjustedProblem(problem, o);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  auto message = [&](const saltus::OptimizeOptions& o) { return adjustError(problem, o); };
   saltus::OptimizeOptions bad;
   bad.P = 12;
   EXPECT_EQ(message(bad).rfind("P: expected an order from 1 to 9, got 12", 0), 0u);

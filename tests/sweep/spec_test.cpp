@@ -115,7 +115,8 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
             "spec.yaml:4:1: repeats: unknown key 'repeats'; expected one of: problems, methods, set, seeds, options, "
             "replay, success");
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [implicit]\nseeds: [1]\n")
-                .find("spec.yaml:2:11: methods[0]: expected impulsive, continuous or first-order, got 'implicit'"),
+                .find("spec.yaml:2:11: methods[0]: expected impulsive, continuous or first-order, or 'M from S' (M "
+                      "solved from S's solution), got 'implicit'"),
             std::string::npos);
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: []\n").find("seeds: expected at least one seed"),
             std::string::npos);
@@ -198,6 +199,38 @@ TEST(SweepSpec, LeavesOutTheCellsAMethodCannotRepresent) {
             std::string::npos)
       << skipped[0].reason;
   EXPECT_EQ(skipped[1].method, "continuous");
+}
+
+TEST(SweepSpec, ATwoStepMethodIsSolvedFromTheOtherMethodsSolution) {
+  const SweepSpec spec = parseSweepSpec(
+      "problems: [point_mass_drop]\nmethods: [first-order, impulsive from first-order]\n"
+      "set: {restitution: [0, 0.5]}\nseeds: [1]\noptions: {seed: perturbed, seed_scale: 0.1}\n",
+      "spec.yaml");
+  std::vector<SkippedCell> skipped;
+  const std::vector<SweepCase> cases = expandSweep(spec, &skipped);
+  // e = 0.5: neither (the two-step solve starts with the first-order method, which has no restitution)
+  ASSERT_EQ(cases.size(), 2u);
+  EXPECT_EQ(cases[1].id, "point_mass_drop__impulsive_from_first-order__restitution=0__seed=1");
+  EXPECT_EQ(cases[1].cell(), "point_mass_drop impulsive from first-order restitution=0");
+  const std::vector<std::string> args = cases[1].optimizeArguments(spec.options, "OUT");
+  const std::vector<std::string> expected = {"optimize", "point_mass_drop", "--method", "impulsive", "--seed", "1",
+                                             "--seed-method", "first-order", "--set", "restitution=0",
+                                             "--seed-kind", "perturbed", "--seed-scale", "0.1", "--out", "OUT"};
+  EXPECT_EQ(args, expected);
+  ASSERT_EQ(skipped.size(), 2u);
+  EXPECT_EQ(skipped[1].method, "impulsive from first-order");
+  EXPECT_NE(skipped[1].reason.find("first-order method cannot represent restitution"), std::string::npos)
+      << skipped[1].reason;
+
+  EXPECT_EQ(splitMethod("continuous from first-order").method, "continuous");
+  EXPECT_EQ(splitMethod("continuous from first-order").seed_method, "first-order");
+  EXPECT_EQ(splitMethod("impulsive").seed_method, "");
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive from impulsive]\nseeds: [1]\n")
+                .find("spec.yaml:2:11: methods[0]: 'impulsive from impulsive': a method cannot seed itself"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive from euler]\nseeds: [1]\n")
+                .find("methods[0]: expected impulsive, continuous or first-order, or 'M from S'"),
+            std::string::npos);
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
