@@ -237,19 +237,22 @@ SweepSpec readSweepSpec(const std::string& path) {
 }
 
 MethodLabel splitMethod(const std::string& label) {
-  const std::string expected = "expected impulsive, continuous or first-order, or 'M from S' (M solved from S's "
-                               "solution), got '" + label + "'";
+  auto known = [](const std::string& name) {
+    try {
+      collocation::parseMethod(name);
+      return true;
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  };
   MethodLabel m;
   const std::size_t from = label.find(" from ");
   m.method = label.substr(0, from);
   if (from != std::string::npos) m.seed_method = label.substr(from + 6);
-  try {
-    const collocation::Method solve = collocation::parseMethod(m.method);
-    if (!m.seed_method.empty() && collocation::parseMethod(m.seed_method) == solve)
-      throw std::invalid_argument("'" + label + "': a method cannot seed itself");
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string(e.what()).find("seed itself") != std::string::npos ? e.what() : expected);
-  }
+  if (!known(m.method) || (from != std::string::npos && !known(m.seed_method)))
+    throw std::invalid_argument("expected impulsive, continuous or first-order, or 'M from S' (M solved from S's "
+                                "solution), got '" + label + "'");
+  if (m.seed_method == m.method) throw std::invalid_argument("'" + label + "': a method cannot seed itself");
   return m;
 }
 
