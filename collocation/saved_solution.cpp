@@ -215,28 +215,28 @@ SavedSolution loadSolution(const std::string& path) {
   return s;
 }
 
-Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolution& earlier) {
-  const Transcription& src = *earlier.transcription;
+Eigen::VectorXd seedFromSolution(const Transcription& target, const Transcription& src, const Eigen::VectorXd& earlier_x,
+                                 const std::string& origin) {
   Eigen::VectorXd x = target.nullSeed();
   if (src.method() == target.method() && src.variableNames() == target.variableNames()) {
-    x = earlier.x;
+    x = earlier_x;
     target.makeConsistent(x);
     return x;
   }
   const int nv = target.problem().scene.model.nv();
   const int nu = static_cast<int>(target.problem().inputs.size());
   if (src.problem().scene.model.nv() != nv || static_cast<int>(src.problem().inputs.size()) != nu)
-    throw SolutionError(earlier.file + ": the earlier solution has " + std::to_string(src.problem().scene.model.nv()) +
+    throw SolutionError(origin + ": the earlier solution has " + std::to_string(src.problem().scene.model.nv()) +
                         " coordinates and " + std::to_string(src.problem().inputs.size()) + " inputs, the problem " +
                         std::to_string(nv) + " and " + std::to_string(nu) + ": it cannot seed this problem");
-  const CollocationTrajectory traj(src, earlier.x);
+  const CollocationTrajectory traj(src, earlier_x);
   const double T = traj.endTime();
   double t0 = 0;
   for (int n = 0; n < target.elements(); ++n) {
     const ElementLayout& L = target.layout()[n];
     // The earlier element lengths when the element counts match (its mesh points, and so its
     // velocity jumps, carry over), else equal lengths over its duration.
-    const double h_earlier = src.elements() == target.elements() ? earlier.x[src.layout()[n].h] : T / target.elements();
+    const double h_earlier = src.elements() == target.elements() ? earlier_x[src.layout()[n].h] : T / target.elements();
     const double h = std::clamp(h_earlier, target.variableLower()[L.h], target.variableUpper()[L.h]);
     x[L.h] = h;
     for (std::size_t p = 0; p < L.points.size(); ++p) {
@@ -254,6 +254,10 @@ Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolutio
   }
   target.makeConsistent(x);
   return x;
+}
+
+Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolution& earlier) {
+  return seedFromSolution(target, *earlier.transcription, earlier.x, earlier.file);
 }
 
 }  // namespace saltus::collocation

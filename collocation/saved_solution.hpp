@@ -70,5 +70,9 @@ std::filesystem::path solutionFile(const std::string& path);
 // points taken from the earlier trajectory, reactions left at zero. Gaps are recomputed and
 // every value projected into its bounds (Transcription::makeConsistent).
 Eigen::VectorXd seedFromSolution(const Transcription& target, const SavedSolution& earlier);
+// The same from a solution x of `earlier` in memory (a solve just made); `origin` names it in
+// the error.
+Eigen::VectorXd seedFromSolution(const Transcription& target, const Transcription& earlier, const Eigen::VectorXd& x,
+                                 const std::string& origin);
 
 }  // namespace saltus::collocation

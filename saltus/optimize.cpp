@@ -34,14 +34,15 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
       throw std::invalid_argument("seed_kind: not with seed_from (which starts from a solution)");
     problem.seed_kind = *options.seed_kind;
   }
-  if (options.seed_method && *options.seed_method == options.method)
-    throw std::invalid_argument(std::string("seed_method: expected another method than the solve's own (") +
-                                toString(options.method) + ")");
-  if (options.seed_method && !options.seed_from.empty())
-    throw std::invalid_argument("seed_method: not with seed_from (which names the solution to start from)");
-  if (options.seed_method)
+  if (options.seed_method) {
+    if (*options.seed_method == options.method)
+      throw std::invalid_argument(std::string("seed_method: expected another method than the solve's own (") +
+                                  toString(options.method) + ")");
+    if (!options.seed_from.empty())
+      throw std::invalid_argument("seed_method: not with seed_from (which names the solution to start from)");
     if (const std::string why = methodCannotTake(problem, *options.seed_method); !why.empty())
       throw std::invalid_argument("seed_method: " + why);
+  }
   if (!options.seed_from.empty()) {
     problem.seed_kind = SeedKind::Solution;
     problem.seed_solution = options.seed_from;
@@ -72,20 +73,6 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   return problem;
 }
 
-namespace {
-
-// The seed_method's solution as a solution on disk would be read back (saved_solution.hpp).
-SavedSolution inMemory(const OptimizeResult& r) {
-  SavedSolution s;
-  s.file = "the " + std::string(toString(r.transcription->method())) + " solve";
-  s.problem = std::make_unique<Problem>(r.problem());
-  s.transcription = std::make_unique<Transcription>(*s.problem, r.transcription->method());
-  s.x = r.report.x;
-  return s;
-}
-
-}  // namespace
-
 OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
   OptimizeResult o;
   o.problem_ptr = std::make_shared<const Problem>(adjustedProblem(problem, options));
@@ -104,7 +91,8 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
       throw std::invalid_argument(std::string("seed_method: ") + e.what());
     }
     if (o.seed_solve->report.interrupted) return *o.seed_solve;
-    const Eigen::VectorXd x0 = seedFromSolution(t, inMemory(*o.seed_solve));
+    const Eigen::VectorXd x0 = seedFromSolution(t, *o.seed_solve->transcription, o.seed_solve->report.x,
+                                                std::string("the ") + toString(*options.seed_method) + " solve");
     solve.restarts = 0;  // the earlier solution, unperturbed: every attempt would be the same
     solve.warm_seed = true;
     o.report = collocation::solve(t, x0, solve);
