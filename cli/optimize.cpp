@@ -35,20 +35,27 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--method: ") + e.what());
   }
-  std::map<std::string, std::string> ipopt;
-  for (const std::string& a : opt.ipopt) {
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--ipopt '" + a + "': expected name=value, e.g. --ipopt max_iter=500");
-    const std::string name = a.substr(0, eq), value = a.substr(eq + 1);
-    if (name == "hessian_approximation") throw UsageError("--ipopt " + a + ": set this through --hessian instead");
-    if (name == "derivative_test") throw UsageError("--ipopt " + a + ": set this through --derivative-check instead");
-    try {
-      checkIpoptOption(name, value);
-    } catch (const IpoptOptionError& e) {
-      throw UsageError("--ipopt " + a + ": " + e.what());
+  // --ipopt and --task-ipopt: name=value, the name an Ipopt option this command does not own.
+  const auto ipoptOptions = [](const std::string& flag, const std::vector<std::string>& given) {
+    std::map<std::string, std::string> ipopt;
+    for (const std::string& a : given) {
+      const auto eq = a.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw UsageError(flag + " '" + a + "': expected name=value, e.g. " + flag + " max_iter=500");
+      const std::string name = a.substr(0, eq), value = a.substr(eq + 1);
+      if (name == "hessian_approximation") throw UsageError(flag + " " + a + ": set this through --hessian instead");
+      if (name == "derivative_test") throw UsageError(flag + " " + a + ": set this through --derivative-check instead");
+      try {
+        checkIpoptOption(name, value);
+      } catch (const IpoptOptionError& e) {
+        throw UsageError(flag + " " + a + ": " + e.what());
+      }
+      ipopt[name] = value;
     }
-    ipopt[name] = value;
-  }
+    return ipopt;
+  };
+  const std::map<std::string, std::string> ipopt = ipoptOptions("--ipopt", opt.ipopt);
+  const std::map<std::string, std::string> task_ipopt = ipoptOptions("--task-ipopt", opt.task_ipopt);
   OptimizeCall call{loadProblem(opt.problem, parseSetOptions(opt.set)), {}};
   const Problem& problem = call.problem;
   OptimizeOptions& options = call.options;
@@ -86,6 +93,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   options.hints = !opt.no_hints;
   options.solve.print_level = opt.print_level;
   options.solve.ipopt = ipopt;
+  options.solve.task_ipopt = task_ipopt;
   if (opt.tighten_within) {
     if (!(*opt.tighten_within >= 0) || !std::isfinite(*opt.tighten_within))
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
@@ -201,6 +209,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "feasible point gives a feasible, not converged, solution");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
+  app->add_option("--task-ipopt", opt->task_ipopt,
+                  "Ipopt option of the task stage only (after --ipopt): name=value (repeatable), e.g. "
+                  "obj_scaling_factor=10");
   app->add_option("--hessian", opt->hessian, "every stage's Hessian: exact or limited-memory (quasi-Newton)");
   app->add_option("--feasibility-hessian", opt->feasibility_hessian,
                   "the feasibility and tightening stages' Hessian (after --hessian): exact or limited-memory");

@@ -23,7 +23,7 @@ struct OptimizeCliOptions {
   std::optional<int> restarts;
   std::optional<double> tighten_within;
   std::optional<int> task_max_iter;
-  std::vector<std::string> set, ipopt;
+  std::vector<std::string> set, ipopt, task_ipopt;
   std::string hessian;              // every stage's: exact or limited-memory
   std::string feasibility_hessian;  // the feasibility and tightening stages'
   int print_level = 0;

@@ -55,7 +55,7 @@ struct RunOptions {
   std::string method;
   std::optional<unsigned> seed;
   std::optional<int> N, P;
-  std::vector<std::string> ipopt;
+  std::vector<std::string> ipopt, task_ipopt;
   std::string engine = "both";
   double fps = 30;
   std::optional<double> speed;
@@ -246,6 +246,7 @@ int run(const RunOptions& opt) {
   optimize_options.P = opt.P;
   optimize_options.set = opt.set;
   optimize_options.ipopt = opt.ipopt;
+  optimize_options.task_ipopt = opt.task_ipopt;
   prepareOptimize(optimize_options);
   RunFacts facts;
   facts.problem_word = fs::path(opt.problem).stem().string();
@@ -277,6 +278,7 @@ int run(const RunOptions& opt) {
   if (opt.P) optimize.command.insert(optimize.command.end(), {"--P", std::to_string(*opt.P)});
   for (const std::string& s : opt.set) optimize.command.insert(optimize.command.end(), {"--set", s});
   for (const std::string& s : opt.ipopt) optimize.command.insert(optimize.command.end(), {"--ipopt", s});
+  for (const std::string& s : opt.task_ipopt) optimize.command.insert(optimize.command.end(), {"--task-ipopt", s});
   std::cerr << "saltus run: " << opt.problem << " -> " << f.dir.string() << "\n";
   runPipelineStep(optimize, f.dir, f.dir / "logs" / "optimize.log");
   const std::vector<fs::path> solution_files{f.optimize / "summary.json", f.optimize / "trajectory.csv",
@@ -349,6 +351,8 @@ Command addRunCommand(CLI::App& saltus) {
   app->add_option("--N", opt->N, "finite elements (passed to optimize)");
   app->add_option("--P", opt->P, "collocation points per element (passed to optimize)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option name=value (repeatable; passed to optimize)");
+  app->add_option("--task-ipopt", opt->task_ipopt,
+                  "Ipopt option of the task stage only, name=value (repeatable; passed to optimize)");
   app->add_option("--engine", opt->engine, "replay engines: saltus, bullet, mujoco, both (saltus and bullet) or all")
       ->capture_default_str();
   app->add_option("--fps", opt->fps, "video frames per second")->capture_default_str();

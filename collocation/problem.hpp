@@ -140,6 +140,8 @@ struct Problem {
   // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted
   // to the option's registered type.
   std::map<std::string, std::string> ipopt_options;
+  // The task stage's own options, applied after ipopt_options in that stage only.
+  std::map<std::string, std::string> task_ipopt_options;
   std::map<std::string, double> parameters;  // the named parameters in use (after --set)
 };
 

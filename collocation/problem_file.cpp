@@ -34,7 +34,7 @@ const std::vector<std::string> kSceneKeys = {"name",    "description", "paramete
                                              "contacts", "joint_limits", "limit_restitution"};
 const std::vector<std::string> kProblemKeys = {"mesh",   "inputs", "initial_free",     "final",
                                                "bounds", "constraints", "hints", "surface_velocity",
-                                               "cost",   "solve",  "ipopt"};
+                                               "cost",   "solve",  "ipopt",  "task_ipopt"};
 const std::vector<std::string> kConditionKeys = {"q", "v", "u", "gap"};
 
 bool isInfinity(const std::string& s, bool& negative) {
@@ -63,7 +63,7 @@ class ProblemReader {
   void readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root);
   void readCost(const YAML::Node& node);
   void readSolve(const YAML::Node& node);
-  void readIpopt(const YAML::Node& node);
+  void readIpopt(const YAML::Node& node, const std::string& key, std::map<std::string, std::string>& options);
 
   int coordinate(const YAML::Node& name_node, const std::string& path) const;
   int input(const YAML::Node& name_node, const std::string& path) const;
@@ -498,14 +498,15 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");
 }
 
-void ProblemReader::readIpopt(const YAML::Node& node) {
+void ProblemReader::readIpopt(const YAML::Node& node, const std::string& key,
+                              std::map<std::string, std::string>& options) {
   if (!node.IsDefined()) return;
-  r_.checkNameMap(node, "ipopt");
+  r_.checkNameMap(node, key);
   if (node.IsNull()) return;
   const std::map<std::string, std::string> owned = {{"hessian_approximation", "solve.hessian"},
                                                     {"derivative_test", "solve.derivative_check"}};
   for (auto it = node.begin(); it != node.end(); ++it) {
-    const std::string name = it->first.Scalar(), path = keyPath("ipopt", name);
+    const std::string name = it->first.Scalar(), path = keyPath(key, name);
     if (const auto o = owned.find(name); o != owned.end())
       r_.fail(it->first, path, "set this through " + o->second + " instead");
     if (!it->second.IsScalar())
@@ -515,7 +516,7 @@ void ProblemReader::readIpopt(const YAML::Node& node) {
     } catch (const IpoptOptionError& e) {
       r_.fail(it->first, path, e.what());
     }
-    p_.ipopt_options[name] = it->second.Scalar();
+    options[name] = it->second.Scalar();
   }
 }
 
@@ -548,7 +549,8 @@ void ProblemReader::read(const YAML::Node& root) {
   readSurfaceVelocity(root["surface_velocity"], root);
   readCost(root["cost"]);
   readSolve(root["solve"]);
-  readIpopt(root["ipopt"]);
+  readIpopt(root["ipopt"], "ipopt", p_.ipopt_options);
+  readIpopt(root["task_ipopt"], "task_ipopt", p_.task_ipopt_options);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ std::string problemFingerprint(const YAML::Node& root, const Problem& problem) {
   std::uint64_t h = 0xcbf29ce484222325ull;
   YAML::Node content = YAML::Clone(root);
   content.remove("ipopt");
+  content.remove("task_ipopt");
   content.remove("solve");
   YAML::Emitter emitted;
   emitted << content;

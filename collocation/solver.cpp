@@ -156,8 +156,13 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
     app->Options()->SetStringValue("derivative_test", "second-order");
     app->Options()->SetNumericValue("derivative_test_perturbation", 1e-7);
   }
+  // The problem's options, then the command line's; the task stage's own after each.
   for (const auto& [name, value] : t.problem().ipopt_options) setOption(*app, name, value);
+  if (stage == Stage::Task)
+    for (const auto& [name, value] : t.problem().task_ipopt_options) setOption(*app, name, value);
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
+  if (stage == Stage::Task)
+    for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
   tuneProcessForSolves();

@@ -78,6 +78,8 @@ struct SolveReport {
 struct SolveOptions {
   int print_level = 0;  // Ipopt's print_level (0 … 12)
   std::map<std::string, std::string> ipopt;  // extra options (the problem's, then the command line's)
+  // The task stage's extra options, after `ipopt` (the problem's task_ipopt, then these).
+  std::map<std::string, std::string> task_ipopt;
   // The task stage starts from the feasibility stage's multipliers as well as its point.
   bool warm_start_multipliers = true;
   // The seed is close to a solution (an earlier solution): the feasibility stage starts with a

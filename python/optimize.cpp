@@ -171,7 +171,8 @@ void bindOptimize(py::module_& m) {
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<std::string> seed_method, const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<std::string> hessian,
          std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within,
-         std::optional<int> task_max_iter, bool hints, bool require_feasible, const Parameters& set) {
+         std::optional<int> task_max_iter, const std::map<std::string, std::string>& task_ipopt, bool hints,
+         bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
         OptimizeOptions o;
         o.method = collocation::parseMethod(method);
@@ -201,6 +202,7 @@ void bindOptimize(py::module_& m) {
         exact("hessian", hessian, o.exact_hessian);
         exact("feasibility_hessian", feasibility_hessian, o.feasibility_exact_hessian);
         o.solve.ipopt = ipopt;
+        o.solve.task_ipopt = task_ipopt;
         o.solve.print_level = print_level;
         if (tighten_within) o.solve.tighten_within = *tighten_within;
         if (task_max_iter) {
@@ -244,7 +246,8 @@ void bindOptimize(py::module_& m) {
       py::arg("seed_from") = "", py::arg("seed_method") = py::none(), py::arg("seed_inputs") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(),
-      py::arg("task_max_iter") = py::none(), py::arg("hints") = true, py::arg("require_feasible") = false,
+      py::arg("task_max_iter") = py::none(), py::arg("task_ipopt") = std::map<std::string, std::string>{},
+      py::arg("hints") = true, py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},
       "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
       "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize` (seed_method: "

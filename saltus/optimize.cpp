@@ -74,6 +74,16 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
 }
 
 OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
+  // Every Ipopt option checked before any stage runs: a bad task-stage option would otherwise
+  // surface after the feasibility stage.
+  for (const auto& [key, given] : {std::pair{"ipopt", &options.solve.ipopt}, {"task_ipopt", &options.solve.task_ipopt}})
+    for (const auto& [name, value] : *given) {
+      try {
+        collocation::checkIpoptOption(name, value);
+      } catch (const collocation::IpoptOptionError& e) {
+        throw collocation::IpoptOptionError(std::string(key) + ": " + e.what());
+      }
+    }
   OptimizeResult o;
   o.problem_ptr = std::make_shared<const Problem>(adjustedProblem(problem, options));
   const auto transcription = std::make_shared<const Transcription>(*o.problem_ptr, options.method);

@@ -58,7 +58,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -95,12 +95,14 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     if (*value != "exact" && *value != "limited-memory")
       r.fail(n[key], where, "expected exact or limited-memory, got '" + *value + "'");
   }
-  if (n["ipopt"]) {
-    r.checkNameMap(n["ipopt"], "options.ipopt");
-    for (auto it = n["ipopt"].begin(); it != n["ipopt"].end(); ++it) {
-      const std::string at = scene::keyPath("options.ipopt", it->first.Scalar());
+  for (const auto& [key, options] : {std::pair{"ipopt", &o.ipopt}, {"task_ipopt", &o.task_ipopt}}) {
+    if (!n[key]) continue;
+    const std::string where = std::string("options.") + key;
+    r.checkNameMap(n[key], where);
+    for (auto it = n[key].begin(); it != n[key].end(); ++it) {
+      const std::string at = scene::keyPath(where, it->first.Scalar());
       if (!it->second.IsScalar()) r.fail(it->second, at, "expected a number or a name, got " + scene::describe(it->second));
-      o.ipopt[it->first.Scalar()] = it->second.Scalar();
+      (*options)[it->first.Scalar()] = it->second.Scalar();
     }
   }
 }
@@ -278,6 +280,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
   if (!o.feasibility_hessian.empty()) a.insert(a.end(), {"--feasibility-hessian", o.feasibility_hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});
+  for (const auto& [name, value] : o.task_ipopt) a.insert(a.end(), {"--task-ipopt", name + "=" + value});
   a.insert(a.end(), {"--out", out});
   return a;
 }

@@ -36,6 +36,7 @@ struct SolveSettings {
   std::string hessian;              // --hessian: "", "exact" or "limited-memory"
   std::string feasibility_hessian;  // --feasibility-hessian: the same
   std::map<std::string, std::string> ipopt;  // --ipopt name=value
+  std::map<std::string, std::string> task_ipopt;  // --task-ipopt name=value
 };
 
 // The physical check of every solution: a replay in Saltus' time-stepper (verify/replay.hpp)

@@ -125,6 +125,9 @@ TEST(Optimize, BadInputNamesWhatWasExpected) {
   r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=many", "--out", dir.string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("expected an integer"), std::string::npos) << r.err;
+  r = runSaltus({"optimize", "point_mass_drop", "--task-ipopt", "obj_scaling=10", "--out", dir.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--task-ipopt obj_scaling=10: unknown Ipopt option 'obj_scaling'"), std::string::npos) << r.err;
   // A two-step solve's first method: a method, another than --method, able to take the problem.
   r = runSaltus({"optimize", "point_mass_drop", "--seed-method", "euler", "--out", dir.string()});
   EXPECT_EQ(r.status, 2);

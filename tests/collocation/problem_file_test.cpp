@@ -244,6 +244,7 @@ TEST(ProblemFile, DefaultsAndTheNullSeed) {
   EXPECT_TRUE(p.exact_hessian);
   EXPECT_TRUE(p.feasibility_exact_hessian);
   EXPECT_TRUE(p.ipopt_options.empty());
+  EXPECT_TRUE(p.task_ipopt_options.empty());
   EXPECT_TRUE(p.scene.contacts.empty());
 }
 
@@ -405,6 +406,8 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   EXPECT_TRUE(p_.derivative_check);
   EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
                                   {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
+  EXPECT_EQ(p_.task_ipopt_options,
+            (std::map<std::string, std::string>{{"obj_scaling_factor", "10"}, {"max_iter", "200"}}));
   EXPECT_EQ(p_.parameters, (std::map<std::string, double>{{"n_mid", 3}, {"top", 0.25}}));
 }
 

@@ -56,6 +56,7 @@ TEST_F(Fingerprint, CommentsLayoutAndSolverSettingsDoNotChangeIt) {
   EXPECT_EQ(of(drop + "# a comment\n\n"), base);
   EXPECT_EQ(of(replaced(drop, "tol: 1e-8", "tol: 1e-7")), base);
   EXPECT_EQ(of(drop + "solve: {seed: perturbed, seed_scale: 0.2, restarts: 3}\n"), base);
+  EXPECT_EQ(of(drop + "task_ipopt: {obj_scaling_factor: 10}\n"), base);
   EXPECT_EQ(of(replaced(drop, "mass: 1.0", "mass:    1.0   # kg")), base);
 }
 

@@ -200,6 +200,31 @@ TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
   EXPECT_GE(kept, 1);
 }
 
+// The task stage's own Ipopt options (the problem's task_ipopt, then SolveOptions::task_ipopt)
+// reach that stage and no other: max_iter 0 there stops the task stage at its start while the
+// feasibility stage iterates; the command line's value overrides the problem's.
+TEST(Solver, TaskStageOptionsReachTheTaskStageOnly) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  p.task_ipopt_options["max_iter"] = "0";
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd seed = seedFromSimulation(t);
+  SolveOptions o;
+  o.warm_seed = true;
+  const SolveReport stopped = solve(t, seed, o);
+  ASSERT_EQ(stopped.stages.size(), 2u);
+  EXPECT_GT(stopped.stages[0].iterations, 0);
+  EXPECT_TRUE(stopped.stages[0].succeeded) << stopped.stages[0].status;
+  EXPECT_EQ(stopped.stages[1].iterations, 0);
+  EXPECT_EQ(stopped.stages[1].status, "Maximum_Iterations_Exceeded");
+  o.task_ipopt["max_iter"] = "3000";
+  const SolveReport full = solve(t, seed, o);
+  ASSERT_EQ(full.stages.size(), 2u);
+  EXPECT_GT(full.stages[1].iterations, 0);
+  EXPECT_TRUE(full.stages[1].succeeded) << full.stages[1].status;
+}
+
 TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   Problem p = loadProblem("point_mass_drop");
   p.cost.max_coordinate = 0;

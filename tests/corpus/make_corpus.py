@@ -83,6 +83,8 @@ PROBLEM = {
                       ["{path}:", "ipopt.no_such_option:", "unknown Ipopt option"]),
     "ipopt_bad_value": (PROBLEM_HEAD.replace("\nipopt:\n", "\nipopt:\n  max_iter: many\n"),
                         ["{path}:", "ipopt.max_iter:", "invalid value 'many'", "an integer"]),
+    "task_ipopt_unknown": (PROBLEM_HEAD + "task_ipopt: {no_such_option: 1}\n",
+                           ["{path}:", "task_ipopt.no_such_option:", "unknown Ipopt option"]),
 }
 
 HEADER = "t,q.z,v.z,contact.ball.gap,contact.ball.vn,contact.ball.vt,contact.ball.pn,contact.ball.pt\n"

@@ -140,6 +140,24 @@ def test_hints_false_solves_without_the_problems_hints(tmp_path, root):
     assert unhinted.feasible and unhinted.summary["hints_used"] == 0
 
 
+def test_task_ipopt_reaches_the_task_stage_only(tmp_path, root):
+    """task_ipopt (--task-ipopt): Ipopt options of the task stage alone. The drop with a task cost
+    (its largest height): max_iter 0 there stops the task stage at its start, the feasibility
+    stage iterates as before; an unknown option is a ValueError naming it."""
+    path = tmp_path / "drop_with_task.yaml"
+    text = (root / "models" / "problems" / "point_mass_drop.yaml").read_text()
+    text = text.replace("cost:\n  penalty_weight: 1.0", "cost:\n  minimise_max: {coordinate: z, weight: 1.0}\n  penalty_weight: 1.0")
+    path.write_text(text)
+    free = saltus.optimize(str(path), restarts=0)
+    stopped = saltus.optimize(str(path), restarts=0, task_ipopt={"max_iter": "0"})
+    assert [s["name"] for s in free.summary["stages"]] == ["feasibility", "task"]
+    assert free.summary["stages"][1]["iterations"] > 0
+    assert stopped.summary["stages"][0]["iterations"] == free.summary["stages"][0]["iterations"]
+    assert stopped.summary["stages"][1]["iterations"] == 0
+    with pytest.raises(ValueError, match="no_such_option"):
+        saltus.optimize(str(path), restarts=0, task_ipopt={"no_such_option": "1"})
+
+
 def test_an_input_schedule_drives_the_simulation_seed(tmp_path):
     """seed_inputs (--seed-inputs): the schedule's inputs are the seed's; the problem says which
     inputs a schedule has and their bounds; a bad schedule is a ValueError naming the file and row."""

@@ -39,7 +39,7 @@ methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
 options: {N: 10, restarts: 0, hints: false, tighten_within: 0, task_max_iter: 500, feasibility_hessian: limited-memory,
-          ipopt: {bound_push: 1e-6}}
+          ipopt: {bound_push: 1e-6}, task_ipopt: {obj_scaling_factor: 10}}
 )",
                                         "spec.yaml");
   ASSERT_EQ(spec.problems.size(), 2u);
@@ -63,7 +63,7 @@ options: {N: 10, restarts: 0, hints: false, tighten_within: 0, task_max_iter: 50
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0", "--no-hints",
                                              "--tighten-within", "0", "--task-max-iter", "500",
                                              "--feasibility-hessian", "limited-memory", "--ipopt", "bound_push=1e-6",
-                                             "--out", "OUT"};
+                                             "--task-ipopt", "obj_scaling_factor=10", "--out", "OUT"};
   EXPECT_EQ(args, expected);
 }
 
