@@ -116,7 +116,7 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              hessian: Optional[str] = None, feasibility_hessian: Optional[str] = None,
              ipopt: Dict[str, str] = ..., print_level: int = 0,
              tighten_within: Optional[float] = None, task_max_iter: Optional[int] = None,
-             hints: bool = True, require_feasible: bool = False,
+             task_ipopt: Dict[str, str] = ..., hints: bool = True, require_feasible: bool = False,
              set: Parameters = ...) -> Solution: ...
 
 def replay(solution: str, *, out: str = "", engine: str = "saltus", dt: float = 1e-4, theta: float = 0.5,
