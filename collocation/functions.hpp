@@ -148,13 +148,16 @@ struct EquationOfMotion {
 struct GapDefinition {
   const ModelSet* models;
   const std::vector<ContactPair>* contacts;
-  int inputs() const { return models->model<double>().nv() + static_cast<int>(contacts->size()); }
-  int outputs() const { return static_cast<int>(contacts->size()); }
-  // q, of the coordinates some point-on-plane contact moves with (a stop's gap is linear); affine in y.
+  // The contacts with a gap variable (the points on planes; a joint stop's gap is its
+  // coordinate, Transcription::gap), in the order of their y inputs and outputs.
+  std::vector<int> pairs;
+  int inputs() const { return models->model<double>().nv() + outputs(); }
+  int outputs() const { return static_cast<int>(pairs.size()); }
+  // q, of the coordinates some point-on-plane contact moves with; affine in y.
   bool nonlinear(int i) const {
     if (i >= models->model<double>().nv()) return false;
-    for (const ContactPair& c : *contacts)
-      if (!c.isStop() && c.moves_with[i]) return true;
+    for (int c : pairs)
+      if ((*contacts)[c].moves_with[i]) return true;
     return false;
   }
   bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }  // y enters with coefficient 1
@@ -163,7 +166,7 @@ struct GapDefinition {
     const int n = models->model<double>().nv();
     auto& data = models->data<S>();
     dynamics::forwardKinematics(models->model<S>(), data, ConstMap<S>(x, n));
-    for (int c = 0; c < outputs(); ++c) y[c] = x[n + c] - contact::gap((*contacts)[c], data, x);
+    for (int c = 0; c < outputs(); ++c) y[c] = x[n + c] - contact::gap((*contacts)[pairs[c]], data, x);
   }
 };
 

@@ -55,6 +55,16 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
+// "y.NAME[n,p]" of a joint stop NAME: a gap variable of the solutions saved before a stop's gap
+// became its coordinate (Transcription::gap); the coordinate's own variable holds its value.
+bool isStopGap(const Transcription& t, const std::string& name) {
+  if (name.rfind("y.", 0) != 0) return false;
+  const std::string pair = name.substr(2, name.find('[') - 2);
+  for (const ContactPair& cp : t.contacts())
+    if (cp.isStop() && cp.name == pair) return true;
+  return false;
+}
+
 }  // namespace
 
 void writeSolution(const std::string& dir, const Transcription& t, const Eigen::VectorXd& x) {
@@ -189,6 +199,7 @@ SavedSolution loadSolution(const std::string& path) {
     if (comma == std::string::npos) throw SolutionError(where() + ": expected name,value, got '" + line + "'");
     const std::string name = line.substr(0, comma);
     const auto it = index.find(name);
+    if (it == index.end() && isStopGap(*s.transcription, name)) continue;  // saved before stops lost theirs
     if (it == index.end())
       throw SolutionError(where() + ": variable '" + name + "' does not belong to the rebuilt transcription (" +
                           keys["method"] + ", N = " + keys["N"] + ", P = " + keys["P"] + "): the problem changed since?");

@@ -49,7 +49,7 @@ std::vector<Sample> trajectory(const Transcription& t, const Eigen::VectorXd& x)
         const ContactPair& cp = t.contacts()[c];
         const auto& C = L.contacts[c];
         ContactSample cs;
-        cs.gap = x[C.y[p]];
+        cs.gap = t.gapValue(x, n, static_cast<int>(c), static_cast<int>(p));
         cs.vn = contact::normalVelocity(cp, data, s.v.data());
         const bool impulse = impulsive && p == 0;
         // On a body's plane: a free point's variables (where its reaction acts) at a point with a

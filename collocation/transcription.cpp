@@ -156,7 +156,15 @@ void Transcription::buildVariables() {
       C.s.assign(npts, -1);
       C.d_plus.assign(npts, -1);
       C.d_minus.assign(npts, -1);
-      for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
+      if (cp.isStop()) {  // y = sign·(q_i − limit) ≥ 0 (gap): the coordinate's bound
+        for (const auto& pt : L.points) {
+          const int qi = pt.q + cp.position;
+          if (cp.sign > 0) xl_[qi] = std::max(xl_[qi], cp.limit);
+          else xu_[qi] = std::min(xu_[qi], cp.limit);
+        }
+      } else {
+        for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
+      }
       std::vector<int> force_points = L.collocation;
       if (jump) force_points.insert(force_points.begin(), 0);
       for (int p : force_points) {
@@ -265,11 +273,16 @@ void Transcription::buildContactConstraints(int n) {
   const int npts = static_cast<int>(L.points.size());
   const int nc = static_cast<int>(contacts_.size());
   // Gap variables at every point.
-  const auto gap = std::make_shared<AdFunction<GapDefinition>>(GapDefinition{models_.get(), &contacts_});
-  for (int p = 0; p < npts; ++p) {
-    std::vector<int> vars = range(L.points[p].q, nv_);
-    for (int c = 0; c < nc; ++c) vars.push_back(L.contacts[c].y[p]);
-    addBlock(gap, vars, 0, 0, "gap" + at(n, p));
+  GapDefinition gap_definition{models_.get(), &contacts_, {}};
+  for (int c = 0; c < nc; ++c)
+    if (!contacts_[c].isStop()) gap_definition.pairs.push_back(c);
+  if (!gap_definition.pairs.empty()) {
+    const auto gap = std::make_shared<AdFunction<GapDefinition>>(gap_definition);
+    for (int p = 0; p < npts; ++p) {
+      std::vector<int> vars = range(L.points[p].q, nv_);
+      for (int c : gap_definition.pairs) vars.push_back(L.contacts[c].y[p]);
+      addBlock(gap, vars, 0, 0, "gap" + at(n, p));
+    }
   }
   // A plane fixed in a body is a rectangle (a deck, a cart's top): the point stays over it,
   // |s_i| ≤ extent_i at every point of the mesh (point 0 of a later element is the previous
@@ -323,8 +336,9 @@ void Transcription::buildContactConstraints(int n) {
       // (9b) as two products, r_n ⊥ y and r_n ⊥ a⁺ + a⁻ (the same complementarity: every factor
       // is ≥ 0), so that an impulse in mid-air (the penalty's local minimum from a cold seed) is
       // penalised on its own, with kMidAirImpulseWeight.
-      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.y[0]}, Eigen::VectorXd::Ones(1), 0,
-                 "impact_gap." + tag + at(n, 0), kMidAirImpulseWeight);
+      const Affine y0 = gap(n, c, 0);
+      addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, y0.vars, y0.c, y0.c0, "impact_gap." + tag + at(n, 0),
+                 kMidAirImpulseWeight);
       addProduct({C.rn[0]}, Eigen::VectorXd::Ones(1), 0, {C.a_plus, C.a_minus}, Eigen::Vector2d::Ones(), 0,
                  "impact." + tag + at(n, 0));
       // a⁺ ⊥ a⁻, so that a⁺ + a⁻ = |ẏ[n,0] + e ẏ[n−1,P+1]|: without it the pair is free whenever
@@ -353,13 +367,18 @@ void Transcription::buildContactConstraints(int n) {
     }
     // (10), or Posa's φ(q[k+1]) ⊥ λ_n.
     for (int p : L.collocation) {
-      if (first_order) {
-        addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, {C.y[p]}, Eigen::VectorXd::Ones(1), 0,
-                   "contact." + tag + at(n, p));
-      } else {
-        addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, C.y, Eigen::VectorXd::Ones(npts), 0,
-                   "contact." + tag + at(n, p));
+      Affine y = gap(n, c, p);
+      if (!first_order) {  // Σ_i y[n, i]
+        y = Affine{{}, Eigen::VectorXd(0), 0};
+        for (int i = 0; i < npts; ++i) {
+          const Affine yi = gap(n, c, i);
+          y.vars.insert(y.vars.end(), yi.vars.begin(), yi.vars.end());
+          y.c.conservativeResize(y.c.size() + yi.c.size());
+          y.c.tail(yi.c.size()) = yi.c;
+          y.c0 += yi.c0;
+        }
       }
+      addProduct({C.rn[p]}, Eigen::VectorXd::Ones(1), 0, y.vars, y.c, y.c0, "contact." + tag + at(n, p));
     }
     if (cp.k() == 0) continue;
     // Friction at the points with reactions: slip slacks ψ (12), then (13) or Posa's cone.
@@ -470,7 +489,19 @@ void Transcription::applyBounds() {
         case Quantity::Kind::Position: var = pt.q + b.quantity.index; break;
         case Quantity::Kind::Velocity: var = pt.v + b.quantity.index; break;
         case Quantity::Kind::Input: var = pt.u >= 0 ? pt.u + b.quantity.index : -1; break;
-        case Quantity::Kind::Gap: var = L.contacts[b.quantity.index].y[p]; break;
+        case Quantity::Kind::Gap: {
+          const ContactPair& cp = contacts_[b.quantity.index];
+          var = L.contacts[b.quantity.index].y[p];
+          if (cp.isStop()) {  // lower ≤ sign·(q_i − limit) ≤ upper, on q_i
+            var = pt.q + cp.position;
+            const double lower = cp.sign > 0 ? cp.limit + b.lower : cp.limit - b.upper;
+            const double upper = cp.sign > 0 ? cp.limit + b.upper : cp.limit - b.lower;
+            lo[var] = std::max(lo[var], lower);
+            hi[var] = std::min(hi[var], upper);
+            return;
+          }
+          break;
+        }
       }
       if (var < 0) return;  // inputs exist at the collocation points only
       lo[var] = std::max(lo[var], b.lower);
@@ -501,6 +532,19 @@ void Transcription::applyBounds() {
     if (x_lower_[i] > x_upper_[i] || x_lower_hint_[i] > x_upper_hint_[i])
       throw std::invalid_argument("the bounds on " + x_names_[i] + " are contradictory: [" +
                                   std::to_string(x_lower_hint_[i]) + ", " + std::to_string(x_upper_hint_[i]) + "]");
+}
+
+Transcription::Affine Transcription::gap(int n, int c, int p) const {
+  const ContactPair& cp = contacts_[c];
+  if (!cp.isStop()) return Affine{{layout_[n].contacts[c].y[p]}, Eigen::VectorXd::Ones(1), 0};
+  return Affine{{layout_[n].points[p].q + cp.position}, Eigen::VectorXd::Constant(1, cp.sign), -cp.sign * cp.limit};
+}
+
+double Transcription::gapValue(const Eigen::VectorXd& x, int n, int c, int p) const {
+  const Affine y = gap(n, c, p);
+  double value = y.c0;
+  for (std::size_t i = 0; i < y.vars.size(); ++i) value += y.c[i] * x[y.vars[i]];
+  return value;
 }
 
 Eigen::Vector3d Transcription::surfaceVelocity(int surface, int element) const {

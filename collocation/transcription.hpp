@@ -73,7 +73,7 @@ struct ElementLayout {
   std::vector<int> collocation;  // indices of the collocation points in `points`
   int end = -1;                  // index of the end mesh point
   struct ContactVars {
-    std::vector<int> y;      // gap, per point
+    std::vector<int> y;      // gap, per point; −1 for a joint stop (Transcription::gap)
     std::vector<int> rn;     // normal reaction (impulse at an impulsive [n, 0]), per point, −1 where none
     std::vector<int> tangential;  // first tangential variable (α or β), per point
     std::vector<int> gamma;  // slip-speed bound γ, per point
@@ -139,6 +139,19 @@ class Transcription {
   // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance); `where` gets the
   // name of that product's constraint (e.g. "impact.ball[10,0]"), untouched when all are ≤ 0.
   double largestProduct(const Eigen::VectorXd& x, std::string* where = nullptr) const;
+
+  // The gap y of contact c at point p of element n as an affine form Σ_i c_i x[vars_i] + c0: its
+  // gap variable, or for a joint stop its coordinate, sign·(q_i − limit). A stop's gap is linear
+  // in one coordinate, so it has no variable of its own and no defining equation: y ≥ 0 is that
+  // coordinate's bound at every point (on the biped, 1,800 variables and as many equations fewer
+  // out of 13,322 and 6,730).
+  struct Affine {
+    std::vector<int> vars;
+    Eigen::VectorXd c;
+    double c0 = 0;
+  };
+  Affine gap(int n, int c, int p) const;
+  double gapValue(const Eigen::VectorXd& x, int n, int c, int p) const;
 
   // The surface velocity a contact sees at element n (steps on the mesh, problem.hpp).
   Eigen::Vector3d surfaceVelocity(int surface, int element) const;

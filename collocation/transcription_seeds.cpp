@@ -18,7 +18,7 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
       for (std::size_t c = 0; c < contacts_.size(); ++c) {
         const ContactPair& cp = contacts_[c];
         const auto& C = L.contacts[c];
-        x[C.y[p]] = std::max(0.0, contact::gap(cp, data, x.data() + L.points[p].q));
+        if (C.y[p] >= 0) x[C.y[p]] = std::max(0.0, contact::gap(cp, data, x.data() + L.points[p].q));
         // A free point at A's projection, clamped to the rectangle; d± the rest (FreePointOffset).
         if (C.s[p] < 0) continue;
         const Eigen::Vector2d s_A = contact::planeCoordinates(cp, data);

@@ -234,6 +234,87 @@ TEST(Transcription, FirstOrderGetsFourStepsPerElement) {
   EXPECT_NEAR(first_order.variableUpper()[first_order.layout()[0].h], p.h_max / 4, 1e-15);
 }
 
+// A joint stop's gap sign·(q_i − limit) is linear in its coordinate: no gap variable and no
+// defining row, y ≥ 0 is the coordinate's bound at every point, a gap bound of the problem's is a
+// bound on the coordinate, and the products see the same gap (against contact::gap at a random
+// point). The biped's 12 stops on three elements of four points: 12 × 3 × 4 variables fewer than
+// one a stop and point, and as many gap rows.
+TEST(Transcription, AJointStopsGapIsItsCoordinate) {
+  Problem biped = smallLegged("biped_stop", 3);
+  const int stop = [&] {  // an upper stop
+    const Transcription probe(biped, Method::Impulsive);
+    for (std::size_t c = 0; c < probe.contacts().size(); ++c)
+      if (probe.contacts()[c].isStop() && probe.contacts()[c].sign < 0) return static_cast<int>(c);
+    return -1;
+  }();
+  ASSERT_GE(stop, 0);
+  biped.bounds.push_back(PointBound{Quantity{Quantity::Kind::Gap, stop}, 1, 2, 0.05, 0.25, "test"});
+  for (Method method : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
+    const Transcription t(biped, method);
+    int stops = 0, gap_variables = 0, gap_rows = 0;
+    for (const auto& name : t.variableNames()) gap_variables += name.starts_with("y.");
+    for (const auto& name : t.constraintNames()) gap_rows += name.starts_with("gap");
+    int points = 0;
+    for (const auto& L : t.layout()) points += static_cast<int>(L.points.size());
+    for (const ContactPair& cp : t.contacts()) stops += cp.isStop();
+    EXPECT_EQ(stops, 12);
+    EXPECT_EQ(gap_variables, (static_cast<int>(t.contacts().size()) - stops) * points) << toString(method);
+    EXPECT_EQ(gap_rows, (static_cast<int>(t.contacts().size()) - stops) * points) << toString(method);
+    const Eigen::VectorXd x = randomPoint(t, 3);
+    auto& data = t.models().data<double>();
+    for (int n = 0; n < t.elements(); ++n)
+      for (std::size_t p = 0; p < t.layout()[n].points.size(); ++p) {
+        const auto& pt = t.layout()[n].points[p];
+        dynamics::forwardKinematics(t.models().model<double>(), data, x.segment(pt.q, t.models().model<double>().nv()));
+        for (std::size_t c = 0; c < t.contacts().size(); ++c) {
+          const ContactPair& cp = t.contacts()[c];
+          if (!cp.isStop()) continue;
+          EXPECT_EQ(t.layout()[n].contacts[c].y[p], -1);
+          EXPECT_NEAR(t.gapValue(x, n, static_cast<int>(c), static_cast<int>(p)), contact::gap(cp, data, x.data() + pt.q), 1e-14);
+          const int qi = pt.q + cp.position;
+          if (n == 0 && p == 0) continue;  // the initial state
+          // the problem's element 1, point 2 (first order: its steps' ends, four steps an element)
+          const bool bounded = cp.position == t.contacts()[stop].position &&
+                               (method == Method::FirstOrder ? n / 4 == 1 && p == 1 : n == 1 && p == 2);
+          if (bounded) {  // 0.05 ≤ limit − q ≤ 0.25
+            const double limit = t.contacts()[stop].limit;
+            EXPECT_DOUBLE_EQ(t.variableUpper()[qi], limit - 0.05);
+            EXPECT_DOUBLE_EQ(t.variableLower()[qi], limit - 0.25);
+          } else if (cp.sign > 0) {
+            EXPECT_DOUBLE_EQ(t.variableLower()[qi], cp.limit) << t.variableNames()[qi];
+          } else {
+            EXPECT_DOUBLE_EQ(t.variableUpper()[qi], cp.limit) << t.variableNames()[qi];
+          }
+        }
+      }
+    // Each stop's contact product at a collocation point: r_n · Σ_i y[n, i] (first order: y[k+1]).
+    const Nlp nlp(t, Stage::Feasibility, x);
+    int checked = 0;
+    for (int b : t.productBlocks()) {
+      const Block& blk = t.blocks()[b];
+      const std::string& name = t.constraintNames()[blk.row];
+      if (!name.starts_with("contact.")) continue;
+      const std::string pair = name.substr(8, name.find('[') - 8);
+      const auto it = std::find_if(t.contacts().begin(), t.contacts().end(), [&](const ContactPair& cp) { return cp.name == pair; });
+      ASSERT_NE(it, t.contacts().end()) << name;
+      if (!it->isStop()) continue;
+      const int c = static_cast<int>(it - t.contacts().begin());
+      const int n = std::stoi(name.substr(name.find('[') + 1)) - 1;
+      const int p = std::stoi(name.substr(name.find(',') + 1));
+      double sum = 0;
+      if (method == Method::FirstOrder) sum = t.gapValue(x, n, c, p);
+      else
+        for (std::size_t i = 0; i < t.layout()[n].points.size(); ++i) sum += t.gapValue(x, n, c, static_cast<int>(i));
+      Eigen::VectorXd local(blk.vars.size());
+      for (std::size_t i = 0; i < blk.vars.size(); ++i) local[i] = x[blk.vars[i]];
+      const double product = static_cast<const ComplementarityProduct&>(*blk.f).product(local.data());
+      EXPECT_NEAR(product, x[t.layout()[n].contacts[c].rn[p]] * sum, 1e-12 * (1 + std::abs(product))) << name;
+      ++checked;
+    }
+    EXPECT_GT(checked, 12) << toString(method);
+  }
+}
+
 // A plane fixed in a body is a rectangle: its contact point is kept over it at every point of the
 // mesh (point 0 of a later element is the previous end), the row is the point's coordinate in
 // the plane and its bounds the extent. Block on the cart's top: s_1 = block_x − cart_x, s_2 = 0.

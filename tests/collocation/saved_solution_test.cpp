@@ -78,6 +78,41 @@ TEST_F(SavedSolutionTest, RemeshedAndFirstOrderSolutionsRoundTrip) {
   EXPECT_EQ(s.transcription->variables(), t.variables());
 }
 
+// Solutions saved while a joint stop had a gap variable ("y.STOP[n,p]", now its coordinate's
+// bound, Transcription::gap) still load, those lines passed over; a point-on-plane contact's gap
+// variable is still required and an unknown "y." name still refused.
+TEST_F(SavedSolutionTest, AJointStopsFormerGapVariablesArePassedOver) {
+  Problem p = loadProblem("biped_stop");
+  remesh(p, 2, 2);
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd x = t.perturb(t.nullSeed(), 0.1, 3);
+  std::string stop;
+  for (const ContactPair& cp : t.contacts())
+    if (cp.isStop()) stop = cp.name;
+  ASSERT_FALSE(stop.empty());
+  writeSolution(dir.string(), t, x);
+  rewrite([&](const std::string& s) { return s + "y." + stop + "[1,0],0.25\ny." + stop + "[2,3],0\n"; });
+  const SavedSolution old = loadSolution(dir.string());
+  EXPECT_EQ((old.x - x).cwiseAbs().maxCoeff(), 0.0);
+  for (const std::string& name : {std::string("y.foot_r[1,0]"), std::string("y.no_such_stop[1,0]")}) {
+    writeSolution(dir.string(), t, x);
+    rewrite([&](const std::string& s) {
+      std::string out = s;
+      const auto at = out.find("y.foot_r[1,0],");
+      if (name == "y.foot_r[1,0]") out.erase(at, out.find('\n', at) + 1 - at);  // missing
+      else out += name + ",1\n";                                                 // unknown
+      return out;
+    });
+    try {
+      loadSolution(dir.string());
+      ADD_FAILURE() << "no error for " << name;
+    } catch (const SolutionError& e) {
+      EXPECT_NE(std::string(e.what()).find(name == "y.foot_r[1,0]" ? "'y.foot_r[1,0]' is missing" : "does not belong"),
+                std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(SavedSolutionTest, MalformedFilesNameTheFileAndLine) {
   const Problem p = loadProblem("point_mass_drop");
   const Transcription t(p, Method::Impulsive);

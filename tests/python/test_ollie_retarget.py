@@ -75,7 +75,9 @@ def foot_errors(simple, full, worst):
         for i, (shank, cols, knee) in enumerate(legs):
             p, pdot = foot(model, full.q[k], full.v[k], shank)
             errors[k, i] = np.abs(p - simple.q[k, cols]).max()
-            assert errors[k, i] <= worst + 1e-9
+            # A joint the script left at its stop is a bounded coordinate: Ipopt's bound_push
+            # (1e-6) moves it that far inside, the foot by at most a leg's length times it.
+            assert errors[k, i] <= worst + 2e-6
             if errors[k, i] < 1e-3 and full.q[k, knee] > 0.1:
                 rates += 1
                 target = simple.v[k, cols]
