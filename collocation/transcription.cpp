@@ -11,6 +11,11 @@ namespace saltus::collocation {
 
 namespace {
 std::string at(int n, int p) { return "[" + std::to_string(n + 1) + "," + std::to_string(p) + "]"; }
+// lower ≤ y ≤ upper for a joint stop's gap y = sign·(q_i − limit), as an interval of q_i.
+std::pair<double, double> stopGapAsCoordinate(const ContactPair& stop, double lower, double upper) {
+  if (stop.sign > 0) return {stop.limit + lower, stop.limit + upper};
+  return {stop.limit - upper, stop.limit - lower};
+}
 }  // namespace
 
 std::string methodCannotTake(const Problem& problem, Method method) {
@@ -157,10 +162,11 @@ void Transcription::buildVariables() {
       C.d_plus.assign(npts, -1);
       C.d_minus.assign(npts, -1);
       if (cp.isStop()) {  // y = sign·(q_i − limit) ≥ 0 (gap): the coordinate's bound
+        const auto [lower, upper] = stopGapAsCoordinate(cp, 0, kInf);
         for (const auto& pt : L.points) {
           const int qi = pt.q + cp.position;
-          if (cp.sign > 0) xl_[qi] = std::max(xl_[qi], cp.limit);
-          else xu_[qi] = std::min(xu_[qi], cp.limit);
+          xl_[qi] = std::max(xl_[qi], lower);
+          xu_[qi] = std::min(xu_[qi], upper);
         }
       } else {
         for (int p = 0; p < npts; ++p) C.y[p] = addVariables(1, 0, kInf, "y." + tag + at(n, p));
@@ -492,10 +498,9 @@ void Transcription::applyBounds() {
         case Quantity::Kind::Gap: {
           const ContactPair& cp = contacts_[b.quantity.index];
           var = L.contacts[b.quantity.index].y[p];
-          if (cp.isStop()) {  // lower ≤ sign·(q_i − limit) ≤ upper, on q_i
+          if (cp.isStop()) {  // on q_i
             var = pt.q + cp.position;
-            const double lower = cp.sign > 0 ? cp.limit + b.lower : cp.limit - b.upper;
-            const double upper = cp.sign > 0 ? cp.limit + b.upper : cp.limit - b.lower;
+            const auto [lower, upper] = stopGapAsCoordinate(cp, b.lower, b.upper);
             lo[var] = std::max(lo[var], lower);
             hi[var] = std::min(hi[var], upper);
             return;
