@@ -41,11 +41,19 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     // tolerance, and a solution is judged by A·B ≤ tolerance (solver.hpp).
     for (int e : t.penaltyVariables()) x_upper_[e] = kPenaltyBoundFraction * t.problem().complementarity_tolerance;
   }
+  const auto& blocks = t.blocks();
+  if (stage == Stage::Task && !t.productBlocks().empty()) {
+    // Each ε fixed at its bound, each product weighed in the cost (nlp.hpp).
+    product_weight_.assign(blocks.size(), 0.0);
+    for (std::size_t i = 0; i < t.productBlocks().size(); ++i)
+      product_weight_[t.productBlocks()[i]] = t.problem().cost.penalty_weight * t.penaltyWeights()[i];
+    for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e];
+  }
   // Sparsity: dense local blocks mapped to global entries; duplicates share an entry.
   std::map<std::pair<int, int>, int> jac, hess;
   std::size_t max_in = 1, max_out = 1;
-  const auto& blocks = t.blocks();
-  for (const Block& b : blocks) {
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
     const int n = b.f->inputs(), m = b.f->outputs();
     max_in = std::max<std::size_t>(max_in, n);
     max_out = std::max<std::size_t>(max_out, m);
@@ -58,7 +66,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
           if (added) jac_row_.push_back(key.first), jac_col_.push_back(key.second);
           jac_pos_.push_back(it->second);
         }
-    hess_first_.push_back(b.f->linear() || (b.isCost() && weight(b) == 0) ? -1 : static_cast<int>(hess_pos_.size()));
+    hess_first_.push_back(b.f->linear() || (b.isCost() && weight(bi) == 0) ? -1 : static_cast<int>(hess_pos_.size()));
     if (hess_first_.back() < 0) continue;
     for (int j = 0; j < n; ++j)
       for (int i = j; i < n; ++i) {
@@ -75,8 +83,11 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
   local_l_.resize(max_out);
 }
 
-double Nlp::weight(const Block& b) const {
+double Nlp::weight(std::size_t block) const {
+  if (productInCost(block)) return product_weight_[block];
+  const Block& b = t_.blocks()[block];
   if (!b.isCost()) return 0.0;
+  if (b.cost_group == kPenaltyCost && !product_weight_.empty()) return 0.0;  // Σ w ε: the products instead
   if (b.cost_group == kPenaltyCost)
     return stage_ == Stage::Task ? t_.problem().cost.penalty_weight : 1.0;
   if (b.cost_group == kTaskCost) return stage_ == Stage::Task ? 1.0 : 0.0;
@@ -121,10 +132,15 @@ bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool
 
 double Nlp::objectiveAt(const Ipopt::Number* x) {
   double f = 0;
-  for (const Block& b : t_.blocks()) {
-    const double w = b.isCost() ? weight(b) : 0.0;
+  const auto& blocks = t_.blocks();
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    const double w = weight(bi);
     if (w == 0) continue;
-    b.f->value(gather(b, x), local_y_.data());
+    if (productInCost(bi))
+      local_y_[0] = static_cast<const ComplementarityProduct&>(*b.f).product(gather(b, x));
+    else
+      b.f->value(gather(b, x), local_y_.data());
     f += w * local_y_[0];
   }
   return f;
@@ -139,11 +155,15 @@ bool Nlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_
 bool Nlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number* grad_f) {
   Timer timer(eval_seconds_);
   for (int i = 0; i < n; ++i) grad_f[i] = 0;
-  for (const Block& b : t_.blocks()) {
-    const double w = b.isCost() ? weight(b) : 0.0;
+  const auto& blocks = t_.blocks();
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    const double w = weight(bi);
     if (w == 0) continue;
     b.f->jacobian(gather(b, x), local_d_.data());
-    for (std::size_t c = 0; c < b.vars.size(); ++c) grad_f[b.vars[c]] += w * local_d_[c];
+    // A product in the cost is A·B: its last input, ε, is not in it.
+    const std::size_t count = productInCost(bi) ? b.vars.size() - 1 : b.vars.size();
+    for (std::size_t c = 0; c < count; ++c) grad_f[b.vars[c]] += w * local_d_[c];
   }
   return true;
 }
@@ -170,6 +190,7 @@ void Nlp::considerFeasible(const Ipopt::Number* x, const Ipopt::Number* g) {
   const Eigen::Map<const Eigen::VectorXd> xv(x, t_.variables());
   if (!xv.allFinite() || !(t_.largestProduct(xv) <= best_product_tolerance_)) return;
   best_x_ = xv;
+  setPenaltyToProducts(best_x_);
   best_objective_ = f;
   best_iteration_ = iteration_ + 1;
 }
@@ -211,7 +232,7 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     const int n = b.f->inputs(), m = b.f->outputs();
     bool any = false;
     for (int r = 0; r < m; ++r) {
-      local_l_[r] = !b.isCost() ? lambda[b.row + r] : obj_factor * weight(b);
+      local_l_[r] = (b.isCost() ? 0.0 : lambda[b.row + r]) + obj_factor * weight(bi);
       any = any || local_l_[r] != 0;
     }
     if (!any) continue;
@@ -235,6 +256,15 @@ void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ip
   multipliers_.z_lower = Eigen::Map<const Eigen::VectorXd>(z_L, n);
   multipliers_.z_upper = Eigen::Map<const Eigen::VectorXd>(z_U, n);
   multipliers_.lambda = Eigen::Map<const Eigen::VectorXd>(lambda, m);
+  setPenaltyToProducts(x_);
+}
+
+void Nlp::setPenaltyToProducts(Eigen::VectorXd& x) {
+  if (product_weight_.empty()) return;
+  for (std::size_t i = 0; i < t_.productBlocks().size(); ++i) {
+    const Block& b = t_.blocks()[t_.productBlocks()[i]];
+    x[t_.penaltyVariables()[i]] = std::max(0.0, static_cast<const ComplementarityProduct&>(*b.f).product(gather(b, x.data())));
+  }
 }
 
 double Nlp::cost(const Eigen::VectorXd& x) {

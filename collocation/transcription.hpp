@@ -136,6 +136,7 @@ class Transcription {
   // The complementarity products (paper eq. 8): their blocks and penalty variables ε.
   const std::vector<int>& productBlocks() const { return product_blocks_; }
   const std::vector<int>& penaltyVariables() const { return epsilon_; }
+  const std::vector<double>& penaltyWeights() const { return penalty_weights_; }  // per ε
   // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance); `where` gets the
   // name of that product's constraint (e.g. "impact.ball[10,0]"), untouched when all are ≤ 0.
   double largestProduct(const Eigen::VectorXd& x, std::string* where = nullptr) const;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 
@@ -409,6 +411,79 @@ TEST(Nlp, KeepsTheBestFeasiblePointItEvaluates) {
   Nlp plain(t, Stage::Task, r.x);
   plain.constraints(r.x);
   EXPECT_FALSE(plain.hasBestFeasible());
+}
+
+// The task stage fixes every ε at its bound, so that each product row reads A·B ≤ 0.9 × the
+// tolerance, and weighs the products themselves in the cost (nlp.hpp): its cost is the task cost
+// plus the penalty weight times Σ w A·B whatever the ε, its gradient that of this sum (nothing on
+// ε), and a solution's ε are its products.
+TEST(Nlp, TheTaskStageBoundsTheProductsAndWeighsThemInTheCost) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.max_coordinate = 0;  // minimise the largest height x_m
+  p.cost.max_weight = 1.0;
+  p.cost.penalty_weight = 3.0;
+  const Transcription t(p, Method::Impulsive);
+  ASSERT_GT(t.productBlocks().size(), 10u);
+  const auto names = t.variableNames();
+  const int x_m = static_cast<int>(std::find(names.begin(), names.end(), "x_max") - names.begin());
+  ASSERT_LT(x_m, t.variables());
+  Nlp task(t, Stage::Task, t.nullSeed());
+
+  const int n = t.variables(), m = t.constraints();
+  Eigen::VectorXd xl(n), xu(n), gl(m), gu(m);
+  task.get_bounds_info(n, xl.data(), xu.data(), m, gl.data(), gu.data());
+  const double bound = kPenaltyBoundFraction * p.complementarity_tolerance;
+  for (int e : t.penaltyVariables()) {
+    EXPECT_EQ(xl[e], bound) << names[e];
+    EXPECT_EQ(xu[e], bound) << names[e];
+  }
+  for (int b : t.productBlocks()) EXPECT_EQ(gu[t.blocks()[b].row], 0.0);  // A·B − ε ≤ 0
+
+  // The products, from their factors' variables alone.
+  const auto products = [&](const Eigen::VectorXd& x) {
+    std::vector<double> ab;
+    for (int b : t.productBlocks()) {
+      const Block& blk = t.blocks()[b];
+      Eigen::VectorXd local(blk.vars.size());
+      for (std::size_t i = 0; i < blk.vars.size(); ++i) local[i] = x[blk.vars[i]];
+      ab.push_back(static_cast<const ComplementarityProduct&>(*blk.f).product(local.data()));
+    }
+    return ab;
+  };
+  Eigen::VectorXd x = randomPoint(t, 5);
+  const std::vector<double> ab = products(x);
+  double penalty = 0;
+  for (std::size_t i = 0; i < ab.size(); ++i) penalty += t.penaltyWeights()[i] * ab[i];
+  ASSERT_GT(std::abs(penalty), 1e-3);
+  EXPECT_NEAR(task.cost(x), x[x_m] + 3.0 * penalty, 1e-12 * (1 + std::abs(penalty)));
+  for (int e : t.penaltyVariables()) x[e] = 5.0;
+  EXPECT_NEAR(task.cost(x), x[x_m] + 3.0 * penalty, 1e-12 * (1 + std::abs(penalty)));
+
+  // The gradient against central differences of the cost.
+  Eigen::VectorXd grad(n);
+  task.eval_grad_f(n, x.data(), true, grad.data());
+  const double step = 1e-6;
+  double worst = 0;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[i] += step;
+    xm[i] -= step;
+    worst = std::max(worst, std::abs(grad[i] - (task.cost(xp) - task.cost(xm)) / (2 * step)) / (1 + std::abs(grad[i])));
+  }
+  EXPECT_LT(worst, 1e-7);
+  for (int e : t.penaltyVariables()) EXPECT_EQ(grad[e], 0.0) << names[e];
+
+  // A solve's task stage: its ε are its products, each within the bound.
+  SolveOptions o;
+  o.warm_seed = true;
+  const SolveReport r = solve(t, seedFromSimulation(t), o);
+  ASSERT_TRUE(r.feasible) << r.stages.back().status;
+  ASSERT_EQ(r.stages.back().name, "task");
+  const std::vector<double> solved = products(r.x);
+  for (std::size_t i = 0; i < solved.size(); ++i) {
+    EXPECT_EQ(r.x[t.penaltyVariables()[i]], std::max(0.0, solved[i])) << names[t.penaltyVariables()[i]];
+    EXPECT_LE(solved[i], p.complementarity_tolerance);
+  }
 }
 
 }  // namespace
