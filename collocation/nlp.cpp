@@ -190,7 +190,7 @@ void Nlp::considerFeasible(const Ipopt::Number* x, const Ipopt::Number* g) {
   const Eigen::Map<const Eigen::VectorXd> xv(x, t_.variables());
   if (!xv.allFinite() || !(t_.largestProduct(xv) <= best_product_tolerance_)) return;
   best_x_ = xv;
-  setPenaltyToProducts(best_x_);
+  if (!product_weight_.empty()) t_.setPenaltyToProducts(best_x_);
   best_objective_ = f;
   best_iteration_ = iteration_ + 1;
 }
@@ -256,15 +256,8 @@ void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ip
   multipliers_.z_lower = Eigen::Map<const Eigen::VectorXd>(z_L, n);
   multipliers_.z_upper = Eigen::Map<const Eigen::VectorXd>(z_U, n);
   multipliers_.lambda = Eigen::Map<const Eigen::VectorXd>(lambda, m);
-  setPenaltyToProducts(x_);
-}
-
-void Nlp::setPenaltyToProducts(Eigen::VectorXd& x) {
-  if (product_weight_.empty()) return;
-  for (std::size_t i = 0; i < t_.productBlocks().size(); ++i) {
-    const Block& b = t_.blocks()[t_.productBlocks()[i]];
-    x[t_.penaltyVariables()[i]] = std::max(0.0, static_cast<const ComplementarityProduct&>(*b.f).product(gather(b, x.data())));
-  }
+  // The task stage's ε sit at their fixed bound: saved points carry each product in its ε.
+  if (!product_weight_.empty()) t_.setPenaltyToProducts(x_);
 }
 
 double Nlp::cost(const Eigen::VectorXd& x) {

@@ -116,7 +116,6 @@ class Nlp : public Ipopt::TNLP {
  private:
   double weight(std::size_t block) const;  // cost weight of a block in this stage (0: not in the cost)
   bool productInCost(std::size_t block) const { return !product_weight_.empty() && product_weight_[block] != 0; }
-  void setPenaltyToProducts(Eigen::VectorXd& x);  // the task stage's ε ← max(0, A·B)
   double objectiveAt(const Ipopt::Number* x);
   void considerFeasible(const Ipopt::Number* x, const Ipopt::Number* g);
   const double* gather(const Block& b, const Ipopt::Number* x);

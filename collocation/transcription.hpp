@@ -25,7 +25,8 @@
 //   φ(q[k+1]) ⊥ λ_n;  γ + d_iᵀ v_t ⊥ β_i;  μ λ_n − Σ β_i ⊥ γ.
 // Every product A·B ≤ ε with ε ≥ 0 a variable (paper eq. 8), penalised in the cost: Σ w ε with
 // w = 1, except kMidAirImpulseWeight for an impulse's gap product and a free point's on-point
-// product at an impulse.
+// product at an impulse. That is the feasibility and tightening stages' form; the task stage
+// fixes each ε at its bound and weighs Σ w A·B instead (Nlp, nlp.hpp).
 #pragma once
 
 #include <memory>
@@ -140,6 +141,9 @@ class Transcription {
   // max_i of A·B at x (the feasibility measure: ≤ complementarity_tolerance); `where` gets the
   // name of that product's constraint (e.g. "impact.ball[10,0]"), untouched when all are ≤ 0.
   double largestProduct(const Eigen::VectorXd& x, std::string* where = nullptr) const;
+  // Each penalty variable ε ← max(0, A·B), so eq. 8 holds with equality where A·B ≥ 0 (the
+  // end of makeConsistent; the NLP's task stage, whose ε are fixed, saves its points this way).
+  void setPenaltyToProducts(Eigen::VectorXd& x) const;
 
   // The gap y of contact c at point p of element n as an affine form Σ_i c_i x[vars_i] + c0: its
   // gap variable, or for a joint stop its coordinate, sign·(q_i − limit). A stop's gap is linear

@@ -71,7 +71,11 @@ void Transcription::makeConsistent(Eigen::VectorXd& x) const {
         for (int i = 0; i < k; ++i) x[C.psi[p] + i] = gamma - projection[i];
       }
     }
-  // Each penalty variable at its product (eq. 8: A·B ≤ ε holds at the start).
+  setPenaltyToProducts(x);  // eq. 8: A·B ≤ ε holds at the start
+}
+
+void Transcription::setPenaltyToProducts(Eigen::VectorXd& x) const {
+  Eigen::VectorXd local;
   for (std::size_t i = 0; i < product_blocks_.size(); ++i) {
     const Block& blk = blocks_[product_blocks_[i]];
     local.resize(blk.vars.size());
