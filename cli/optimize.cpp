@@ -99,6 +99,16 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
     options.solve.tighten_within = *opt.tighten_within;
   }
+  if (opt.penalty_iterations) {
+    if (*opt.penalty_iterations < 0)
+      throw UsageError("--penalty-iterations: expected a non-negative iteration count (0: no penalty stage)");
+    options.penalty_iterations = *opt.penalty_iterations;
+  }
+  if (!opt.task_penalty.empty()) {
+    if (opt.task_penalty != "on" && opt.task_penalty != "off")
+      throw UsageError("--task-penalty: expected on or off, got '" + opt.task_penalty + "'");
+    options.task_penalty = opt.task_penalty == "on";
+  }
   if (opt.task_max_iter) {
     if (*opt.task_max_iter < 0) throw UsageError("--task-max-iter: expected a non-negative iteration count");
     options.solve.task_max_iter = *opt.task_max_iter;
@@ -207,6 +217,13 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--task-max-iter", opt->task_max_iter,
                   "iteration limit of the task stage (default: Ipopt's max_iter); a task stage stopped by it at a "
                   "feasible point gives a feasible, not converged, solution");
+  app->add_option("--penalty-iterations", opt->penalty_iterations,
+                  "iteration cap of the penalty stage, which starts the solve with the complementarity products in "
+                  "the cost and stops at its first feasible point (default: the problem's; 0: none)");
+  app->add_option("--task-penalty", opt->task_penalty,
+                  "on: the task stage weighs the complementarity products in its cost instead of bounding them "
+                  "(its result is still its best point with every product within the tolerance); off: bounded "
+                  "(default: the problem's)");
   app->add_option("--set", opt->set, "override a parameter: name=value (repeatable)");
   app->add_option("--ipopt", opt->ipopt, "Ipopt option: name=value (repeatable), e.g. max_iter=500");
   app->add_option("--task-ipopt", opt->task_ipopt,

@@ -23,6 +23,8 @@ struct OptimizeCliOptions {
   std::optional<int> restarts;
   std::optional<double> tighten_within;
   std::optional<int> task_max_iter;
+  std::optional<int> penalty_iterations;
+  std::string task_penalty;  // --task-penalty on|off; empty: the problem's
   std::vector<std::string> set, ipopt, task_ipopt;
   std::string hessian;              // every stage's: exact or limited-memory
   std::string feasibility_hessian;  // the feasibility and tightening stages'

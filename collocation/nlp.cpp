@@ -25,13 +25,14 @@ const char* toString(Stage s) {
     case Stage::Feasibility: return "feasibility";
     case Stage::Tighten: return "tighten";
     case Stage::Task: return "task";
+    case Stage::Penalty: return "penalty";
   }
   return "?";
 }
 
 Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start)
     : t_(t), stage_(stage), x0_(x0), start_(std::move(start)) {
-  if (stage == Stage::Feasibility) {
+  if (stage == Stage::Feasibility || stage == Stage::Penalty) {
     x_lower_ = t.hintedLower();
     x_upper_ = t.hintedUpper();
   } else {
@@ -42,13 +43,28 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     for (int e : t.penaltyVariables()) x_upper_[e] = kPenaltyBoundFraction * t.problem().complementarity_tolerance;
   }
   const auto& blocks = t.blocks();
-  if (stage == Stage::Task && !t.productBlocks().empty()) {
+  // The products left out of the constraints and weighed in the cost (nlp.hpp).
+  const bool left_out = stage == Stage::Penalty || (stage == Stage::Task && t.problem().task_penalty);
+  if (left_out && !t.productBlocks().empty()) {
+    const double weight = stage == Stage::Task ? t.problem().cost.penalty_weight : 1.0;
+    product_weight_.assign(blocks.size(), 0.0);
+    for (std::size_t i = 0; i < t.productBlocks().size(); ++i)
+      product_weight_[t.productBlocks()[i]] = weight * t.penaltyWeights()[i];
+    for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e] = 0;
+  } else if (stage == Stage::Task && !t.productBlocks().empty()) {
     // Each ε fixed at its bound, each product weighed in the cost (nlp.hpp).
     product_weight_.assign(blocks.size(), 0.0);
     for (std::size_t i = 0; i < t.productBlocks().size(); ++i)
       product_weight_[t.productBlocks()[i]] = t.problem().cost.penalty_weight * t.penaltyWeights()[i];
     for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e];
   }
+  row_.resize(t.constraints());
+  for (int i = 0; i < t.constraints(); ++i) row_[i] = i;
+  if (left_out)
+    for (int b : t.productBlocks()) row_[blocks[b].row] = -1;
+  for (int& r : row_)
+    if (r >= 0) r = rows_++;
+  g_full_.resize(t.constraints());
   // Sparsity: dense local blocks mapped to global entries; duplicates share an entry.
   std::map<std::pair<int, int>, int> jac, hess;
   std::size_t max_in = 1, max_out = 1;
@@ -58,7 +74,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     max_in = std::max<std::size_t>(max_in, n);
     max_out = std::max<std::size_t>(max_out, m);
     jac_first_.push_back(static_cast<int>(jac_pos_.size()));
-    if (!b.isCost())
+    if (!b.isCost() && !leftOut(b))
       for (int c = 0; c < n; ++c)
         for (int r = 0; r < m; ++r) {
           const auto key = std::make_pair(b.row + r, b.vars[c]);
@@ -102,7 +118,7 @@ const double* Nlp::gather(const Block& b, const Ipopt::Number* x) {
 bool Nlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
                        IndexStyleEnum& index_style) {
   n = t_.variables();
-  m = t_.constraints();
+  m = rows_;
   nnz_jac_g = static_cast<Ipopt::Index>(jac_row_.size());
   nnz_h_lag = static_cast<Ipopt::Index>(hess_row_.size());
   index_style = C_STYLE;
@@ -114,7 +130,8 @@ bool Nlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u
   // Ipopt reads ±1e19 (nlp_lower/upper_bound_inf) as infinite.
   auto finite = [](double v) { return std::max(-1e19, std::min(1e19, v)); };
   for (int i = 0; i < n; ++i) x_l[i] = finite(x_lower_[i]), x_u[i] = finite(x_upper_[i]);
-  for (int i = 0; i < m; ++i) g_l[i] = finite(t_.constraintLower()[i]), g_u[i] = finite(t_.constraintUpper()[i]);
+  for (int i = 0; i < t_.constraints(); ++i)
+    if (row_[i] >= 0) g_l[row_[i]] = finite(t_.constraintLower()[i]), g_u[row_[i]] = finite(t_.constraintUpper()[i]);
   return true;
 }
 
@@ -126,7 +143,8 @@ bool Nlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool
   if (init_z)
     for (int i = 0; i < n; ++i) z_L[i] = start_.z_lower[i], z_U[i] = start_.z_upper[i];
   if (init_lambda)
-    for (int i = 0; i < m; ++i) lambda[i] = start_.lambda[i];
+    for (int i = 0; i < t_.constraints(); ++i)
+      if (row_[i] >= 0) lambda[row_[i]] = start_.lambda[i];
   return true;
 }
 
@@ -172,9 +190,11 @@ bool Nlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt
   Timer timer(eval_seconds_);
   for (const Block& b : t_.blocks()) {
     if (b.isCost()) continue;
-    b.f->value(gather(b, x), g + b.row);
+    b.f->value(gather(b, x), g_full_.data() + b.row);
   }
-  if (best_violation_tolerance_ >= 0) considerFeasible(x, g);
+  for (int i = 0; i < t_.constraints(); ++i)
+    if (row_[i] >= 0) g[row_[i]] = g_full_[i];
+  if (best_violation_tolerance_ >= 0) considerFeasible(x, g_full_.data());
   return true;
 }
 
@@ -199,14 +219,14 @@ bool Nlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, I
                      Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) {
   Timer timer(eval_seconds_);
   if (values == nullptr) {
-    for (int k = 0; k < nele_jac; ++k) iRow[k] = jac_row_[k], jCol[k] = jac_col_[k];
+    for (int k = 0; k < nele_jac; ++k) iRow[k] = row_[jac_row_[k]], jCol[k] = jac_col_[k];
     return true;
   }
   for (int k = 0; k < nele_jac; ++k) values[k] = 0;
   const auto& blocks = t_.blocks();
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
-    if (b.isCost()) continue;
+    if (b.isCost() || leftOut(b)) continue;
     b.f->jacobian(gather(b, x), local_d_.data());
     const int count = b.f->inputs() * b.f->outputs();
     const int* pos = jac_pos_.data() + jac_first_[bi];
@@ -232,7 +252,7 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     const int n = b.f->inputs(), m = b.f->outputs();
     bool any = false;
     for (int r = 0; r < m; ++r) {
-      local_l_[r] = (b.isCost() ? 0.0 : lambda[b.row + r]) + obj_factor * weight(bi);
+      local_l_[r] = (b.isCost() || leftOut(b) ? 0.0 : lambda[row_[b.row + r]]) + obj_factor * weight(bi);
       any = any || local_l_[r] != 0;
     }
     if (!any) continue;
@@ -255,8 +275,10 @@ void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ip
   x_ = Eigen::Map<const Eigen::VectorXd>(x, n);
   multipliers_.z_lower = Eigen::Map<const Eigen::VectorXd>(z_L, n);
   multipliers_.z_upper = Eigen::Map<const Eigen::VectorXd>(z_U, n);
-  multipliers_.lambda = Eigen::Map<const Eigen::VectorXd>(lambda, m);
-  // The task stage's ε sit at their fixed bound: saved points carry each product in its ε.
+  multipliers_.lambda = Eigen::VectorXd::Zero(t_.constraints());  // the transcription's rows
+  for (int i = 0; i < t_.constraints(); ++i)
+    if (row_[i] >= 0 && row_[i] < m) multipliers_.lambda[i] = lambda[row_[i]];
+  // ε fixed (the task and penalty stages): saved points carry each product in its ε.
   if (!product_weight_.empty()) t_.setPenaltyToProducts(x_);
 }
 
@@ -266,16 +288,16 @@ double Nlp::cost(const Eigen::VectorXd& x) {
   return f;
 }
 
-Eigen::VectorXd Nlp::constraints(const Eigen::VectorXd& x) {
-  Eigen::VectorXd g(t_.constraints());
-  eval_g(static_cast<int>(x.size()), x.data(), true, static_cast<int>(g.size()), g.data());
-  return g;
+Eigen::VectorXd Nlp::constraints(const Eigen::VectorXd& x) {  // every row, those left out too
+  Eigen::VectorXd g(rows_);
+  eval_g(static_cast<int>(x.size()), x.data(), true, rows_, g.data());
+  return g_full_;
 }
 
 Eigen::MatrixXd Nlp::jacobian(const Eigen::VectorXd& x) {
   const int nnz = jacobianNonzeros();
   std::vector<double> v(nnz);
-  eval_jac_g(static_cast<int>(x.size()), x.data(), true, t_.constraints(), nnz, nullptr, nullptr, v.data());
+  eval_jac_g(static_cast<int>(x.size()), x.data(), true, rows_, nnz, nullptr, nullptr, v.data());
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(t_.constraints(), t_.variables());
   for (int k = 0; k < nnz; ++k) J(jac_row_[k], jac_col_[k]) += v[k];
   return J;
@@ -284,8 +306,11 @@ Eigen::MatrixXd Nlp::jacobian(const Eigen::VectorXd& x) {
 Eigen::MatrixXd Nlp::hessian(const Eigen::VectorXd& x, double obj_factor, const Eigen::VectorXd& lambda) {
   const int nnz = hessianNonzeros();
   std::vector<double> v(nnz);
-  eval_h(static_cast<int>(x.size()), x.data(), true, obj_factor, t_.constraints(), lambda.data(), true, nnz, nullptr,
-         nullptr, v.data());
+  Eigen::VectorXd lambda_nlp(rows_);  // Ipopt's rows
+  for (int i = 0; i < t_.constraints(); ++i)
+    if (row_[i] >= 0) lambda_nlp[row_[i]] = lambda[i];
+  eval_h(static_cast<int>(x.size()), x.data(), true, obj_factor, rows_, lambda_nlp.data(), true, nnz, nullptr, nullptr,
+         v.data());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(t_.variables(), t_.variables());
   for (int k = 0; k < nnz; ++k) {
     H(hess_row_[k], hess_col_[k]) += v[k];

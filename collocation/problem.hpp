@@ -137,6 +137,13 @@ struct Problem {
   bool exact_hessian = true;
   bool feasibility_exact_hessian = true;
   bool derivative_check = false;  // Ipopt's derivative checker (second order) before solving
+  // A penalty stage of at most this many iterations in place of the feasibility stage's start
+  // (collocation/solver.hpp; 0: none): the products in the cost, not as constraints.
+  int penalty_iterations = 0;
+  // The task stage in the same form (nlp.hpp): the products in its cost, weighted by
+  // cost.penalty_weight, not bounded by the tolerance; its result is still its best point with
+  // every product within the tolerance.
+  bool task_penalty = false;
   // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted
   // to the option's registered type.
   std::map<std::string, std::string> ipopt_options;

@@ -440,7 +440,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check"},
+               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -496,6 +496,13 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   }
   if (node["derivative_check"].IsDefined())
     p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");
+  if (node["task_penalty"].IsDefined()) p_.task_penalty = r_.boolean(node["task_penalty"], "solve.task_penalty");
+  if (const YAML::Node s = node["penalty_iterations"]; s.IsDefined()) {
+    p_.penalty_iterations = r_.integer(s, "solve.penalty_iterations");
+    if (p_.penalty_iterations < 0)
+      r_.fail(s, "solve.penalty_iterations",
+              "expected a non-negative iteration count (0: no penalty stage), got " + std::to_string(p_.penalty_iterations));
+  }
 }
 
 void ProblemReader::readIpopt(const YAML::Node& node, const std::string& key,

@@ -141,11 +141,12 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   // from 9 to 16 successes of 40 on the built-in problems (bench/sweeps/perturbed_seeds.yaml).
   app->Options()->SetNumericValue("bound_push", 1e-6);
   app->Options()->SetNumericValue("bound_frac", 1e-6);
-  if (stage != Stage::Feasibility || options.warm_seed) app->Options()->SetNumericValue("mu_init", 1e-4);  // near a solution
+  const bool first_stage = stage == Stage::Feasibility || stage == Stage::Penalty;
+  if (!first_stage || options.warm_seed) app->Options()->SetNumericValue("mu_init", 1e-4);  // near a solution
   // From a seed near a solution the adaptive strategy's first barrier parameter (its oracle,
   // which ignores mu_init) was 50 on the drop and walked a saved solution away from itself;
   // the monotone strategy keeps mu_init (measured with `saltus sweep`, README).
-  if (stage == Stage::Feasibility && options.warm_seed) app->Options()->SetStringValue("mu_strategy", "monotone");
+  if (first_stage && options.warm_seed) app->Options()->SetStringValue("mu_strategy", "monotone");
   if (!start.empty()) {  // and its multipliers
     app->Options()->SetStringValue("warm_start_init_point", "yes");
     app->Options()->SetNumericValue("warm_start_bound_push", 1e-6);
@@ -164,6 +165,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   if (stage == Stage::Task)
     for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
+  if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
   tuneProcessForSolves();
 
@@ -254,15 +256,27 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   };
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
-  report.stages.push_back(runStage(t, Stage::Feasibility, x0, {}, options, x, multipliers, report));
-  const StageReport first = report.stages.back();  // a copy: later push_backs reallocate
-  bool feasible = feasibleEnd(first);  // the point x
   std::size_t kept = 0;  // the stage whose point is the result
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
   const bool task_follows = has_task || !t.problem().hints.empty();
-  if (!report.interrupted && tightensAfter(first, tolerance, options.violation_tolerance, options.tighten_within)) {
+  // A feasibility stage (or the penalty stage) from `from`, then, for a feasibility stage, the
+  // tightening stage when tightensAfter says so. x is the point reached; returns whether it is
+  // feasible.
+  StageReport first;
+  const auto reachFeasible = [&](Stage stage, const Eigen::VectorXd& from) {
+    // The penalty stage stops at its first feasible point when a task stage follows, as the
+    // tightening stage does: Ipopt does not converge on it (its multipliers wander: the
+    // complementarity problem's need not exist), but it reaches such a point fast.
+    report.stages.push_back(
+        runStage(t, stage, from, {}, options, x, multipliers, report, stage == Stage::Penalty && task_follows));
+    first = report.stages.back();  // a copy: later push_backs reallocate
+    kept = report.stages.size() - 1;
+    if (feasibleEnd(first)) return true;
+    if (stage == Stage::Penalty || report.interrupted ||
+        !tightensAfter(first, tolerance, options.violation_tolerance, options.tighten_within))
+      return false;
     // A local minimum of the penalty with products above the tolerance (often just above: on a
     // resting mass, a staircase of small impulses at later boundaries), or a stage stopped on its
     // way down. The bounded products of the tightening stage, from this point, pull them under it
@@ -275,12 +289,22 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const StageReport& tight = report.stages.back();
     if (feasibleEnd(tight)) {
       kept = report.stages.size() - 1;
-      feasible = true;
       if (tight.kept_iteration >= 0) report.note = keptNote(tight);
-    } else {
-      x = x1;
-      report.note = "the tightening stage ended " + tight.status + "; kept the feasibility stage's point";
+      return true;
     }
+    x = x1;
+    report.note = "the tightening stage ended " + tight.status + "; kept the feasibility stage's point";
+    return false;
+  };
+  // The penalty stage (Problem::penalty_iterations) first; when it ends without a feasible point,
+  // the feasibility stage starts afresh from the seed. From the biped's penalty-stage points that
+  // were not feasible, neither the tightening nor the feasibility stage got far (README).
+  bool feasible = false;  // the point x
+  if (t.problem().penalty_iterations > 0) {
+    feasible = reachFeasible(Stage::Penalty, x0);
+    if (!feasible && !report.interrupted) feasible = reachFeasible(Stage::Feasibility, x0);
+  } else {
+    feasible = reachFeasible(Stage::Feasibility, x0);
   }
   const bool task = task_follows && !report.interrupted;
   if (task && (first.succeeded || feasible)) {

@@ -64,6 +64,12 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   if (options.exact_hessian) problem.exact_hessian = problem.feasibility_exact_hessian = *options.exact_hessian;
   if (options.feasibility_exact_hessian) problem.feasibility_exact_hessian = *options.feasibility_exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
+  if (options.penalty_iterations) {
+    if (*options.penalty_iterations < 0)
+      throw std::invalid_argument("penalty_iterations: expected a non-negative iteration count (0: no penalty stage)");
+    problem.penalty_iterations = *options.penalty_iterations;
+  }
+  if (options.task_penalty) problem.task_penalty = *options.task_penalty;
   if (!options.hints) problem.hints.clear();
   if (options.solve.print_level < 0 || options.solve.print_level > 12)
     throw std::invalid_argument("print_level: expected Ipopt's print level, 0 … 12, got " +

@@ -154,6 +154,8 @@ struct OptimizeOptions {
   std::optional<bool> exact_hessian;            // every stage's; false: limited-memory
   std::optional<bool> feasibility_exact_hessian;  // the feasibility and tightening stages' (after exact_hessian)
   bool derivative_check = false;                // Ipopt's second-order derivative checker
+  std::optional<int> penalty_iterations;        // the penalty stage's iteration cap (0: none; Problem)
+  std::optional<bool> task_penalty;             // the task stage with the products in its cost (Problem)
   bool hints = true;                            // false: without the problem's hints (Problem::hints)
   // Ipopt's print level and options, tightening, and an interruption check (restarts: above).
   collocation::SolveOptions solve;

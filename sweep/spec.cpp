@@ -58,7 +58,7 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -78,6 +78,9 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
       r.fail(n["tighten_within"], "options.tighten_within", "expected a non-negative ratio (0: never tighten)");
   }
   if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], "options.task_max_iter", 0);
+  if (n["task_penalty"]) o.task_penalty = r.boolean(n["task_penalty"], "options.task_penalty");
+  if (n["penalty_iterations"])
+    o.penalty_iterations = positiveInteger(r, n["penalty_iterations"], "options.penalty_iterations", 0);
   if (n["seed"]) {
     // A bare `null` is YAML's empty value: the null seed, as in a problem file's solve.seed.
     o.seed_kind = n["seed"].IsNull() ? "null" : r.text(n["seed"], "options.seed");
@@ -277,6 +280,8 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});
+  if (o.task_penalty) a.insert(a.end(), {"--task-penalty", *o.task_penalty ? "on" : "off"});
+  if (o.penalty_iterations) a.insert(a.end(), {"--penalty-iterations", std::to_string(*o.penalty_iterations)});
   if (!o.hessian.empty()) a.insert(a.end(), {"--hessian", o.hessian});
   if (!o.feasibility_hessian.empty()) a.insert(a.end(), {"--feasibility-hessian", o.feasibility_hessian});
   for (const auto& [name, value] : o.ipopt) a.insert(a.end(), {"--ipopt", name + "=" + value});

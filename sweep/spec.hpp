@@ -31,6 +31,8 @@ struct SolveSettings {
   std::optional<double> seed_scale;
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<int> task_max_iter;      // --task-max-iter
+  std::optional<int> penalty_iterations;  // --penalty-iterations
+  std::optional<bool> task_penalty;       // --task-penalty on|off
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
   bool hints = true;      // false: --no-hints
   std::string hessian;              // --hessian: "", "exact" or "limited-memory"

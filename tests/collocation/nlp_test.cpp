@@ -28,6 +28,22 @@ Eigen::VectorXd randomPoint(const Transcription& t, unsigned seed) {
   return x;
 }
 
+// The largest relative error of an NLP's cost gradient against central differences at x.
+double worstGradientError(Nlp& nlp, const Eigen::VectorXd& x) {
+  const int n = static_cast<int>(x.size());
+  Eigen::VectorXd grad(n);
+  nlp.eval_grad_f(n, x.data(), true, grad.data());
+  const double step = 1e-6;
+  double worst = 0;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[i] += step;
+    xm[i] -= step;
+    worst = std::max(worst, std::abs(grad[i] - (nlp.cost(xp) - nlp.cost(xm)) / (2 * step)) / (1 + std::abs(grad[i])));
+  }
+  return worst;
+}
+
 // The family of a constraint row: its name up to the first '.' or '['.
 std::string family(const std::string& name) { return name.substr(0, name.find_first_of(".[")); }
 
@@ -460,17 +476,9 @@ TEST(Nlp, TheTaskStageBoundsTheProductsAndWeighsThemInTheCost) {
   EXPECT_NEAR(task.cost(x), x[x_m] + 3.0 * penalty, 1e-12 * (1 + std::abs(penalty)));
 
   // The gradient against central differences of the cost.
+  EXPECT_LT(worstGradientError(task, x), 1e-7);
   Eigen::VectorXd grad(n);
   task.eval_grad_f(n, x.data(), true, grad.data());
-  const double step = 1e-6;
-  double worst = 0;
-  for (int i = 0; i < n; ++i) {
-    Eigen::VectorXd xp = x, xm = x;
-    xp[i] += step;
-    xm[i] -= step;
-    worst = std::max(worst, std::abs(grad[i] - (task.cost(xp) - task.cost(xm)) / (2 * step)) / (1 + std::abs(grad[i])));
-  }
-  EXPECT_LT(worst, 1e-7);
   for (int e : t.penaltyVariables()) EXPECT_EQ(grad[e], 0.0) << names[e];
 
   // A solve's task stage: its ε are its products, each within the bound.
@@ -484,6 +492,98 @@ TEST(Nlp, TheTaskStageBoundsTheProductsAndWeighsThemInTheCost) {
     EXPECT_EQ(r.x[t.penaltyVariables()[i]], std::max(0.0, solved[i])) << names[t.penaltyVariables()[i]];
     EXPECT_LE(solved[i], p.complementarity_tolerance);
   }
+}
+
+// The penalty stage: each product A·B leaves the constraints (Ipopt sees the others, in order) and
+// enters the cost as Σ w A·B with the feasibility stage's weights; its ε are fixed at 0. The
+// Hessian of its Lagrangian is the feasibility stage's with each product row's multiplier at σ·w.
+TEST(Nlp, ThePenaltyStageLeavesTheProductsOutAndWeighsThemInTheCost) {
+  Problem p = loadProblem("point_mass_drop");
+  p.cost.penalty_weight = 3.0;  // the task stage's weight, not this stage's
+  const Transcription t(p, Method::Impulsive);
+  const std::size_t products = t.productBlocks().size();
+  ASSERT_GT(products, 10u);
+  Nlp penalty(t, Stage::Penalty, t.nullSeed());
+  Ipopt::Index n = 0, m = 0, nnz_j = 0, nnz_h = 0;
+  Ipopt::TNLP::IndexStyleEnum style;
+  ASSERT_TRUE(penalty.get_nlp_info(n, m, nnz_j, nnz_h, style));
+  ASSERT_EQ(n, t.variables());
+  ASSERT_EQ(m, t.constraints() - static_cast<int>(products));
+
+  std::vector<bool> is_product(t.constraints(), false);
+  for (int b : t.productBlocks()) is_product[t.blocks()[b].row] = true;
+  Eigen::VectorXd xl(n), xu(n), gl(m), gu(m);
+  penalty.get_bounds_info(n, xl.data(), xu.data(), m, gl.data(), gu.data());
+  std::vector<bool> is_epsilon(n, false);
+  for (int e : t.penaltyVariables()) is_epsilon[e] = true;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(xl[i], is_epsilon[i] ? 0.0 : std::max(-1e19, t.hintedLower()[i])) << t.variableNames()[i];
+    EXPECT_EQ(xu[i], is_epsilon[i] ? 0.0 : std::min(1e19, t.hintedUpper()[i])) << t.variableNames()[i];
+  }
+  for (int i = 0, k = 0; i < t.constraints(); ++i) {
+    if (is_product[i]) continue;
+    EXPECT_EQ(gl[k], std::max(-1e19, t.constraintLower()[i])) << t.constraintNames()[i];
+    EXPECT_EQ(gu[k], std::min(1e19, t.constraintUpper()[i])) << t.constraintNames()[i];
+    ++k;
+  }
+
+  // Ipopt's constraints are the feasibility stage's without the product rows; the cost is
+  // Σ w A·B whatever the ε.
+  Nlp feasibility(t, Stage::Feasibility, t.nullSeed());
+  Eigen::VectorXd x = randomPoint(t, 3);
+  const Eigen::VectorXd g_all = feasibility.constraints(x);
+  Eigen::VectorXd g(m);
+  penalty.eval_g(n, x.data(), true, m, g.data());
+  double penalty_cost = 0;
+  for (int i = 0, k = 0; i < t.constraints(); ++i)
+    if (!is_product[i]) EXPECT_EQ(g[k++], g_all[i]) << t.constraintNames()[i];
+  for (std::size_t i = 0; i < products; ++i) {
+    const int row = t.blocks()[t.productBlocks()[i]].row;
+    penalty_cost += t.penaltyWeights()[i] * (g_all[row] + x[t.penaltyVariables()[i]]);  // A·B − ε + ε
+  }
+  ASSERT_GT(std::abs(penalty_cost), 1e-3);
+  EXPECT_NEAR(penalty.cost(x), penalty_cost, 1e-12 * (1 + std::abs(penalty_cost)));
+  for (int e : t.penaltyVariables()) x[e] = 5.0;
+  EXPECT_NEAR(penalty.cost(x), penalty_cost, 1e-12 * (1 + std::abs(penalty_cost)));
+
+  // Its gradient against central differences, and its Jacobian the feasibility stage's rows.
+  EXPECT_LT(worstGradientError(penalty, x), 1e-7);
+  const Eigen::MatrixXd J = penalty.jacobian(x), J_all = feasibility.jacobian(x);
+  for (int i = 0; i < t.constraints(); ++i) {
+    if (is_product[i])
+      EXPECT_EQ(J.row(i).norm(), 0.0) << t.constraintNames()[i];
+    else
+      EXPECT_EQ((J.row(i) - J_all.row(i)).norm(), 0.0) << t.constraintNames()[i];
+  }
+  Eigen::VectorXd lambda = Eigen::VectorXd::LinSpaced(t.constraints(), -1.0, 2.0), lambda_all = lambda;
+  const double sigma = 0.7;
+  for (std::size_t i = 0; i < products; ++i) lambda_all[t.blocks()[t.productBlocks()[i]].row] = sigma * t.penaltyWeights()[i];
+  const Eigen::MatrixXd H = penalty.hessian(x, sigma, lambda), H_all = feasibility.hessian(x, 0.0, lambda_all);
+  EXPECT_LT((H - H_all).norm(), 1e-12 * (1 + H_all.norm()));
+  EXPECT_GT(H.norm(), 0.0);
+
+  // With task_penalty the task stage takes this form: the products left out, the cost the task
+  // cost (x_m) plus penalty_weight × Σ w A·B.
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  p.task_penalty = true;
+  const Transcription tt(p, Method::Impulsive);
+  Nlp task(tt, Stage::Task, tt.nullSeed());
+  ASSERT_TRUE(task.get_nlp_info(n, m, nnz_j, nnz_h, style));
+  EXPECT_EQ(m, tt.constraints() - static_cast<int>(tt.productBlocks().size()));
+  const auto names = tt.variableNames();
+  const int x_m = static_cast<int>(std::find(names.begin(), names.end(), "x_max") - names.begin());
+  ASSERT_LT(x_m, tt.variables());
+  Nlp tt_feasibility(tt, Stage::Feasibility, tt.nullSeed());
+  Eigen::VectorXd y = randomPoint(tt, 4);
+  const Eigen::VectorXd gy = tt_feasibility.constraints(y);
+  double weighted = 0;
+  for (std::size_t i = 0; i < tt.productBlocks().size(); ++i)
+    weighted += tt.penaltyWeights()[i] * (gy[tt.blocks()[tt.productBlocks()[i]].row] + y[tt.penaltyVariables()[i]]);
+  EXPECT_NEAR(task.cost(y), y[x_m] + 3.0 * weighted, 1e-12 * (1 + std::abs(weighted)));
+  Eigen::VectorXd lower(tt.variables()), upper(tt.variables()), g_lower(m), g_upper(m);
+  task.get_bounds_info(tt.variables(), lower.data(), upper.data(), m, g_lower.data(), g_upper.data());
+  for (int e : tt.penaltyVariables()) EXPECT_EQ(upper[e], 0.0);
 }
 
 }  // namespace

@@ -40,6 +40,10 @@ TEST(ProblemFileErrors, UnknownHessian) {
   expectError("bad_hessian.yaml", "solve.feasibility_hessian",
               {"unknown hessian 'limited_memory'", "did you mean 'limited-memory'", "expected one of: exact, limited-memory"});
 }
+TEST(ProblemFileErrors, NegativePenaltyIterations) {
+  expectError("bad_penalty_iterations.yaml", "solve.penalty_iterations",
+              {"expected a non-negative iteration count", "got -5"});
+}
 TEST(ProblemFileErrors, SceneKeyBesideASceneFile) {
   expectError("scene_reference_with_model.yaml", "model", {"the scene comes from 'skateboard'", "none of its keys"});
 }

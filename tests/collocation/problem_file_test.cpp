@@ -234,6 +234,8 @@ TEST(ProblemFile, MissingFile) {
 }
 
 TEST(ProblemFile, DefaultsAndTheNullSeed) {
+  EXPECT_EQ(Problem{}.penalty_iterations, 0);  // no penalty stage
+  EXPECT_FALSE(Problem{}.task_penalty);
   const Problem p = loadProblem(kDataDir + "seed_null.yaml");
   EXPECT_EQ(p.name, "seed_null");
   EXPECT_EQ(p.seed_kind, SeedKind::Null);
@@ -404,6 +406,8 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   EXPECT_FALSE(p_.exact_hessian);           // hessian: every stage's,
   EXPECT_TRUE(p_.feasibility_exact_hessian);  // then feasibility_hessian for the feasibility stage
   EXPECT_TRUE(p_.derivative_check);
+  EXPECT_EQ(p_.penalty_iterations, 300);
+  EXPECT_TRUE(p_.task_penalty);
   EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
                                   {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
   EXPECT_EQ(p_.task_ipopt_options,

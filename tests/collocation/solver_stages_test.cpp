@@ -340,6 +340,77 @@ TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {
   EXPECT_EQ(c.stages.back().objective, penalty);
 }
 
+// The penalty stage (Problem::penalty_iterations): the drop with a task cost (x_m) from the
+// perturbed simulation seed 1, whose feasibility stage ends at a near miss (the test above). The
+// penalty stage reaches a feasible point within its cap and stops there, and the task stage
+// converges from it. Capped at one iteration it stops short, and the solve goes on as one without
+// it: the feasibility stage from the same seed, the same iterations to the same point.
+// The near-miss drop with x_m as its task cost and the penalty stage capped at 200 iterations.
+Problem penaltyStageDrop() {
+  Problem p = nearMissDrop();
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  p.random_seed = 1;
+  p.penalty_iterations = 200;
+  return p;
+}
+
+TEST(Solver, APenaltyStageStopsAtItsFirstFeasiblePointOrHandsOver) {
+  Problem p = penaltyStageDrop();
+  const Transcription t(p, Method::Impulsive);
+  const SolveReport r = solve(t, makeSeeding(t).seed, SolveOptions{});
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[0].name, "penalty");
+  EXPECT_EQ(r.stages[0].status, "Stopped_At_Feasible_Point");
+  EXPECT_LE(r.stages[0].largest_product, p.complementarity_tolerance);
+  EXPECT_LT(r.stages[0].iterations, 200);
+  EXPECT_EQ(r.stages[1].name, "task");
+  EXPECT_TRUE(r.converged) << r.stages[1].status << ": " << r.note;
+  EXPECT_NEAR(r.objective, 0.1, 1e-3);  // x_m: the drop's start
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
+
+  p.penalty_iterations = 1;
+  const Transcription capped(p, Method::Impulsive);
+  const SolveReport c = solve(capped, makeSeeding(capped).seed, SolveOptions{});
+  p.penalty_iterations = 0;
+  const Transcription plain(p, Method::Impulsive);
+  const SolveReport without = solve(plain, makeSeeding(plain).seed, SolveOptions{});
+  ASSERT_EQ(c.stages.size(), without.stages.size() + 1);
+  EXPECT_EQ(c.stages[0].name, "penalty");
+  EXPECT_EQ(c.stages[0].status, "Maximum_Iterations_Exceeded");
+  EXPECT_EQ(c.stages[0].iterations, 1);
+  EXPECT_GT(c.stages[0].largest_product, p.complementarity_tolerance);
+  for (std::size_t i = 0; i < without.stages.size(); ++i) {
+    EXPECT_EQ(c.stages[i + 1].name, without.stages[i].name);
+    EXPECT_EQ(c.stages[i + 1].iterations, without.stages[i].iterations) << without.stages[i].name;
+  }
+  EXPECT_EQ(c.x, without.x);
+  EXPECT_TRUE(c.converged) << c.stages.back().status << ": " << c.note;
+  EXPECT_NEAR(c.objective, 0.1, 1e-3);
+}
+
+// The task stage in the penalty form (Problem::task_penalty): the products in its cost, not
+// bounded. Its result is still a point with every product within the tolerance: the drop of the
+// test above lands at the analytic time with the same x_m.
+TEST(Solver, ATaskStageWithTheProductsInItsCostEndsFeasible) {
+  Problem p = penaltyStageDrop();
+  p.task_penalty = true;
+  const Transcription t(p, Method::Impulsive);
+  const SolveReport r = solve(t, makeSeeding(t).seed, SolveOptions{});
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[1].name, "task");
+  EXPECT_TRUE(r.feasible) << r.stages[1].status << ": " << r.note;
+  EXPECT_LE(r.largest_product, p.complementarity_tolerance);
+  EXPECT_NEAR(r.objective, 0.1, 1e-3);
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
+}
+
 }  // namespace
 }  // namespace saltus::collocation
 
