@@ -43,20 +43,15 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     for (int e : t.penaltyVariables()) x_upper_[e] = kPenaltyBoundFraction * t.problem().complementarity_tolerance;
   }
   const auto& blocks = t.blocks();
-  // The products left out of the constraints and weighed in the cost (nlp.hpp).
+  // The task and penalty stages weigh each product in the cost with ε fixed (nlp.hpp): at its
+  // bound, or at 0 with the product's row left out of the constraints.
   const bool left_out = stage == Stage::Penalty || (stage == Stage::Task && t.problem().task_penalty);
-  if (left_out && !t.productBlocks().empty()) {
+  if ((stage == Stage::Task || left_out) && !t.productBlocks().empty()) {
     const double weight = stage == Stage::Task ? t.problem().cost.penalty_weight : 1.0;
     product_weight_.assign(blocks.size(), 0.0);
     for (std::size_t i = 0; i < t.productBlocks().size(); ++i)
       product_weight_[t.productBlocks()[i]] = weight * t.penaltyWeights()[i];
-    for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e] = 0;
-  } else if (stage == Stage::Task && !t.productBlocks().empty()) {
-    // Each ε fixed at its bound, each product weighed in the cost (nlp.hpp).
-    product_weight_.assign(blocks.size(), 0.0);
-    for (std::size_t i = 0; i < t.productBlocks().size(); ++i)
-      product_weight_[t.productBlocks()[i]] = t.problem().cost.penalty_weight * t.penaltyWeights()[i];
-    for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e];
+    for (int e : t.penaltyVariables()) x_lower_[e] = x_upper_[e] = left_out ? 0.0 : x_upper_[e];
   }
   row_.resize(t.constraints());
   for (int i = 0; i < t.constraints(); ++i) row_[i] = i;
@@ -188,13 +183,17 @@ bool Nlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Numbe
 
 bool Nlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) {
   Timer timer(eval_seconds_);
+  // Every row into g when none is left out; else into g_full_ and the kept rows copied.
+  const bool all_rows = rows_ == t_.constraints();
+  double* g_all = all_rows ? g : g_full_.data();
   for (const Block& b : t_.blocks()) {
     if (b.isCost()) continue;
-    b.f->value(gather(b, x), g_full_.data() + b.row);
+    b.f->value(gather(b, x), g_all + b.row);
   }
-  for (int i = 0; i < t_.constraints(); ++i)
-    if (row_[i] >= 0) g[row_[i]] = g_full_[i];
-  if (best_violation_tolerance_ >= 0) considerFeasible(x, g_full_.data());
+  if (!all_rows)
+    for (int i = 0; i < t_.constraints(); ++i)
+      if (row_[i] >= 0) g[row_[i]] = g_full_[i];
+  if (best_violation_tolerance_ >= 0) considerFeasible(x, g_all);
   return true;
 }
 
@@ -291,7 +290,7 @@ double Nlp::cost(const Eigen::VectorXd& x) {
 Eigen::VectorXd Nlp::constraints(const Eigen::VectorXd& x) {  // every row, those left out too
   Eigen::VectorXd g(rows_);
   eval_g(static_cast<int>(x.size()), x.data(), true, rows_, g.data());
-  return g_full_;
+  return rows_ == t_.constraints() ? g : g_full_;
 }
 
 Eigen::MatrixXd Nlp::jacobian(const Eigen::VectorXd& x) {

@@ -2,8 +2,9 @@
 // (paper §V.C): the feasibility stage minimises the complementarity penalty Σ ε with the hint
 // bounds applied; the task stage minimises the task cost plus the weighted penalty with every
 // product bounded by the complementarity tolerance; a tightening stage in between minimises Σ ε
-// with every ε so bounded. Only the sparsity structure is stored: the Jacobian
-// and the Hessian of the Lagrangian are assembled from the blocks' dense local derivatives.
+// with every ε so bounded; a penalty stage may come first, with the products in its cost (Stage).
+// Only the sparsity structure is stored: the Jacobian and the Hessian of the Lagrangian are
+// assembled from the blocks' dense local derivatives.
 #pragma once
 
 #include <functional>
