@@ -63,6 +63,7 @@ class ProblemReader {
   void readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root);
   void readCost(const YAML::Node& node);
   void readSolve(const YAML::Node& node);
+  void readPenaltyKeys(const YAML::Node& node, const std::string& at, Problem::MethodSolve& into);
   void readIpopt(const YAML::Node& node, const std::string& key, std::map<std::string, std::string>& options);
 
   int coordinate(const YAML::Node& name_node, const std::string& path) const;
@@ -440,7 +441,8 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty"},
+               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
+               "impulsive", "continuous", "first-order"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -496,12 +498,29 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   }
   if (node["derivative_check"].IsDefined())
     p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");
-  if (node["task_penalty"].IsDefined()) p_.task_penalty = r_.boolean(node["task_penalty"], "solve.task_penalty");
+  // The penalty keys for every method, then a method's own (solve.<method>).
+  Problem::MethodSolve every;
+  readPenaltyKeys(node, "solve", every);
+  if (every.penalty_iterations) p_.penalty_iterations = *every.penalty_iterations;
+  if (every.task_penalty) p_.task_penalty = *every.task_penalty;
+  for (const Method m : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
+    const YAML::Node s = node[toString(m)];
+    if (!s.IsDefined()) continue;
+    const std::string at = std::string("solve.") + toString(m);
+    r_.checkMap(s, at, {"penalty_iterations", "task_penalty"}, true);
+    if (s.IsNull()) continue;
+    readPenaltyKeys(s, at, p_.method_solve[m]);
+  }
+}
+
+void ProblemReader::readPenaltyKeys(const YAML::Node& node, const std::string& at, Problem::MethodSolve& into) {
+  if (const YAML::Node s = node["task_penalty"]; s.IsDefined()) into.task_penalty = r_.boolean(s, at + ".task_penalty");
   if (const YAML::Node s = node["penalty_iterations"]; s.IsDefined()) {
-    p_.penalty_iterations = r_.integer(s, "solve.penalty_iterations");
-    if (p_.penalty_iterations < 0)
-      r_.fail(s, "solve.penalty_iterations",
-              "expected a non-negative iteration count (0: no penalty stage), got " + std::to_string(p_.penalty_iterations));
+    const int n = r_.integer(s, at + ".penalty_iterations");
+    if (n < 0)
+      r_.fail(s, at + ".penalty_iterations",
+              "expected a non-negative iteration count (0: no penalty stage), got " + std::to_string(n));
+    into.penalty_iterations = n;
   }
 }
 

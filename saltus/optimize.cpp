@@ -14,6 +14,12 @@ namespace fs = std::filesystem;
 using namespace saltus::collocation;
 
 Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
+  // The method's own penalty keys (a problem file's solve.<method>), then the options.
+  if (const auto m = problem.method_solve.find(options.method); m != problem.method_solve.end()) {
+    if (m->second.penalty_iterations) problem.penalty_iterations = *m->second.penalty_iterations;
+    if (m->second.task_penalty) problem.task_penalty = *m->second.task_penalty;
+  }
+  problem.method_solve.clear();  // applied: the problem as solved
   if (options.P && (*options.P < 1 || *options.P > 9))
     throw std::invalid_argument("P: expected an order from 1 to 9, got " + std::to_string(*options.P));
   if (options.N && (*options.N < 1 || *options.N > collocation::kMaxElements))
@@ -173,6 +179,8 @@ std::string summaryJson(const OptimizeResult& o) {
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
+  j["penalty_iterations"] = problem.penalty_iterations;  // as solved: the method's own, or the options'
+  j["task_penalty"] = problem.task_penalty;
   j["hints_used"] = problem.hints.size();  // the hints imposed (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["feasible"] = r.feasible;

@@ -44,6 +44,12 @@ TEST(ProblemFileErrors, NegativePenaltyIterations) {
   expectError("bad_penalty_iterations.yaml", "solve.penalty_iterations",
               {"expected a non-negative iteration count", "got -5"});
 }
+TEST(ProblemFileErrors, AMethodsOwnPenaltyKeys) {
+  expectError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",
+              {"expected a non-negative iteration count", "got -1"});
+  expectError("bad_method_solve_key.yaml", "solve.first-order.restarts",
+              {"unknown key 'restarts'", "expected one of: penalty_iterations, task_penalty"});
+}
 TEST(ProblemFileErrors, SceneKeyBesideASceneFile) {
   expectError("scene_reference_with_model.yaml", "model", {"the scene comes from 'skateboard'", "none of its keys"});
 }

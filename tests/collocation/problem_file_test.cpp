@@ -235,6 +235,7 @@ TEST(ProblemFile, MissingFile) {
 
 TEST(ProblemFile, DefaultsAndTheNullSeed) {
   EXPECT_EQ(Problem{}.penalty_iterations, 0);  // no penalty stage
+  EXPECT_TRUE(Problem{}.method_solve.empty());
   EXPECT_FALSE(Problem{}.task_penalty);
   const Problem p = loadProblem(kDataDir + "seed_null.yaml");
   EXPECT_EQ(p.name, "seed_null");
@@ -408,6 +409,12 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   EXPECT_TRUE(p_.derivative_check);
   EXPECT_EQ(p_.penalty_iterations, 300);
   EXPECT_TRUE(p_.task_penalty);
+  // solve.<method>: only the keys given (an empty map gives none).
+  ASSERT_EQ(p_.method_solve.size(), 2u);
+  EXPECT_EQ(p_.method_solve.at(Method::Impulsive).penalty_iterations, 250);
+  EXPECT_FALSE(p_.method_solve.at(Method::Impulsive).task_penalty);
+  EXPECT_FALSE(p_.method_solve.at(Method::FirstOrder).penalty_iterations);
+  EXPECT_EQ(p_.method_solve.at(Method::FirstOrder).task_penalty, false);
   EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
                                   {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
   EXPECT_EQ(p_.task_ipopt_options,

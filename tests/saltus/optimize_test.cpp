@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -173,6 +174,41 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
   const saltus::collocation::Problem bouncing = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
   EXPECT_EQ(adjustError(bouncing, options).rfind("seed_method: the first-order method cannot represent restitution", 0), 0u)
       << adjustError(bouncing, options);
+}
+
+// A problem file's solve.<method> keys (Problem::method_solve) take the place of the problem's
+// own for a solve with that method only, and a solve's options come after them.
+TEST(ApiProblemOptions, AMethodsOwnPenaltyKeysApplyToItsSolvesOnly) {
+  using saltus::collocation::Method;
+  saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {});
+  problem.penalty_iterations = 100;
+  problem.method_solve[Method::Impulsive] = {300, true};
+  problem.method_solve[Method::FirstOrder].task_penalty = true;
+  saltus::OptimizeOptions options;
+  const auto adjusted = [&](Method m) {
+    options.method = m;
+    const saltus::collocation::Problem a = saltus::adjustedProblem(problem, options);
+    EXPECT_TRUE(a.method_solve.empty());  // applied
+    return std::pair{a.penalty_iterations, a.task_penalty};
+  };
+  EXPECT_EQ(adjusted(Method::Impulsive), std::pair(300, true));
+  EXPECT_EQ(adjusted(Method::Continuous), std::pair(100, false));  // none of its own
+  EXPECT_EQ(adjusted(Method::FirstOrder), std::pair(100, true));   // only the key it gives
+  options.penalty_iterations = 0;
+  options.task_penalty = false;
+  EXPECT_EQ(adjusted(Method::Impulsive), std::pair(0, false));  // the options last
+  // A solve with the method's own keys starts with the penalty stage, and summary.json records
+  // the values it was solved with.
+  problem.method_solve[Method::Impulsive] = {50, false};
+  saltus::OptimizeOptions solve;
+  solve.restarts = 0;
+  const saltus::OptimizeResult r = saltus::optimize(problem, solve);
+  ASSERT_FALSE(r.report.stages.empty());
+  EXPECT_EQ(r.report.stages.front().name, "penalty");
+  EXPECT_LE(r.report.stages.front().iterations, 50);
+  const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(r));
+  EXPECT_EQ(j.at("penalty_iterations").get<int>(), 50);
+  EXPECT_FALSE(j.at("task_penalty").get<bool>());
 }
 
 TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
