@@ -1,8 +1,11 @@
-// The AD of the transcription's local functions (functions.hpp), instantiated here alone: this
-// file is compiled with raised inlining limits (CMakeLists.txt), without which GCC leaves
-// Eigen's AutoDiffScalar expression templates as calls and the nested-dual Hessians run about
-// twice as slowly.
+// The AD of the transcription's local functions (functions.hpp), instantiated here alone, with the
+// Hessian pairs and Jacobian columns the functors form themselves (EquationOfMotion::addHessian,
+// the jacobianColumns). Built with the default inlining limits: collocation/CMakeLists.txt says why.
 #include "collocation/functions.hpp"
+
+#include <algorithm>
+
+#include "dynamics/crba.hpp"
 
 namespace saltus::collocation {
 
@@ -132,6 +135,97 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
     }
 }
 
+void EquationOfMotion::jacobianColumns(const double* x, double* J) const {
+  const int n = nv();
+  const int first_acceleration = (with_dynamics ? 2 : 1) * n;  // q̈ or Δq̇
+  const auto& model = models->model<double>();
+  auto& data = models->data<double>();
+  // M(q): CRBA leaves data.X_up (and a multi-coordinate joint's S_i(q)); the poses the contact
+  // layer needs are composed from them as in operator().
+  const auto& M = dynamics::crba(model, data, ConstMap<double>(x, n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) J[i + (first_acceleration + j) * n] = M(i, j);
+  for (int k = 0; k < inputs_count(); ++k) {
+    double* column = J + (first_acceleration + n + k) * n;
+    std::fill(column, column + n, 0.0);
+    column[actuated[k]] = -1.0;
+  }
+  if (contacts->empty()) return;
+  for (int i = 0; i < model.nbodies(); ++i) {
+    const int p = model.parent[i];
+    data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
+  }
+  // The reaction's generalised force −J_cᵀ f_c(r_n, t) is linear in r_n for fixed t and in t for
+  // fixed r_n: each column is the force of the derivative ∂f_c/∂r_n or ∂f_c/∂t_i, put through the
+  // contact layer as operator() puts f_c.
+  int k = first_acceleration + n + inputs_count();
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1> unit;
+  for (const ContactPair& c : *contacts) {
+    const double* r = x + k;
+    const double* s = r + 1 + c.k();
+    auto column = [&](int input, double r_n, const Vec3<double>& f_t) {
+      double* out = J + (k + input) * n;
+      std::fill(out, out + n, 0.0);
+      if (c.freePoint())
+        contact::addReactionAt(model, data, c, -r_n, Vec3<double>(-f_t), s, out);
+      else
+        contact::addReaction(model, data, c, -r_n, Vec3<double>(-f_t), out);
+    };
+    // ∂f/∂r_n = n + f_t(r_n = 1) in the Activation form (f_t = −μ r_n Σ d_i α_i); n in the Direct.
+    column(0, 1.0, friction == FrictionForm::Activation ? contactForce(c, data, friction, 1.0, r + 1, true)
+                                                       : Vec3<double>(Vec3<double>::Zero()));
+    unit = Eigen::VectorXd::Zero(c.k());
+    for (int i = 0; i < c.k(); ++i) {  // ∂f/∂t_i: f_t at t = e_i
+      unit[i] = 1.0;
+      column(1 + i, 0.0, contactForce(c, data, friction, r[0], unit.data(), true));
+      unit[i] = 0.0;
+    }
+    k += 1 + c.k() + c.freeAxes();
+  }
+}
+
+void RestitutionBalance::jacobianColumns(const double* x, double* J) const {
+  const int n = models->model<double>().nv();
+  const auto& model = models->model<double>();
+  auto& data = models->data<double>();
+  for (int i = 0; i < inputs(); ++i)
+    if (!columnByAd(i)) J[i] = 0.0;  // one output: column i is J[i]
+  for (int side = 0; side < sides(); ++side) {
+    const double* q = x + 2 * side * n;
+    dynamics::forwardKinematics(model, data, ConstMap<double>(q, n));
+    // ∂ẏ/∂q̇ = nᵀ J_c (contact::normalVelocity), with −1 after the jump and −e before it.
+    const Vec3<double> normal = (side == 0 ? -1.0 : -contact->restitution) * contact::planeNormal(*contact, data);
+    contact::forEachJacobianColumn(model, data, *contact,
+                                   [&](int k, const Vec3<double>& c) { J[(2 * side + 1) * n + k] += normal.dot(c); });
+  }
+  J[2 * sides() * n] = 1.0;
+  J[2 * sides() * n + 1] = -1.0;
+}
+
+void SlipSlack::jacobianColumns(const double* x, double* J) const {
+  const int n = models->model<double>().nv(), m = contact->freeAxes(), k = contact->k();
+  const auto& model = models->model<double>();
+  auto& data = models->data<double>();
+  for (int i = 0; i < inputs(); ++i)
+    if (!columnByAd(i)) std::fill(J + i * k, J + (i + 1) * k, 0.0);
+  dynamics::forwardKinematics(model, data, ConstMap<double>(x, n));
+  // ∂ψ_i/∂q̇ = ∓d_iᵀ J_c: the relative Jacobian of the slip (at the plane coordinates s for a free point).
+  const double sign = friction == FrictionForm::Activation ? 1.0 : -1.0;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxCoordinates> d(3, k);
+  for (int i = 0; i < k; ++i) d.col(i) = sign * contact::frictionDirection(*contact, data, i);
+  auto add = [&](int coordinate, const Vec3<double>& c) {
+    double* column = J + (n + coordinate) * k;
+    for (int i = 0; i < k; ++i) column[i] += d.col(i).dot(c);
+  };
+  if (m > 0)
+    contact::forEachJacobianColumnAt(model, data, *contact, x + 2 * n, add);
+  else
+    contact::forEachJacobianColumn(model, data, *contact, add);
+  for (int i = 0; i < k; ++i) {
+    J[i + (2 * n + m) * k] = -1.0;        // γ
+    J[i + (2 * n + m + 1 + i) * k] = 1.0;  // ψ_i
+  }
+}
 
 template class AdFunction<EquationOfMotion>;
 template class AdFunction<GapDefinition>;

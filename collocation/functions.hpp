@@ -2,6 +2,7 @@
 // kinematics, integration and the complementarity products, each with the paper's equation.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -103,6 +104,21 @@ struct EquationOfMotion {
     return j < n && i < (with_dynamics ? 2 : 1) * n;
   }
   void addHessian(const double* x, const double* lambda, double* H) const;
+  // The Jacobian by AD for q, q̇ and a free point's s only; the columns of the inputs F is affine
+  // in, with coefficients of q (and the reactions) alone, in jacobianColumns (functions.cpp):
+  //   q̈ or Δq̇: M(q) (CRBA, RBDA Table 6.2)    u: −B    r_n, t_i: −J_cᵀ ∂f_c/∂r_n, −J_cᵀ ∂f_c/∂t_i
+  // (a stop's r_n: −sign e_i). For the biped that is 3 of 7 chunks of 8 in continuous time.
+  bool columnByAd(int i) const {
+    const int n = nv();
+    if (i < (with_dynamics ? 2 : 1) * n) return true;  // q, q̇
+    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
+    for (const ContactPair& c : *contacts) {
+      if (i >= k + 1 + c.k() && i < k + 1 + c.k() + c.freeAxes()) return true;  // s
+      k += 1 + c.k() + c.freeAxes();
+    }
+    return false;
+  }
+  void jacobianColumns(const double* x, double* J) const;
 
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -161,6 +177,14 @@ struct GapDefinition {
     return false;
   }
   bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }  // y enters with coefficient 1
+  // The Jacobian by AD for those q only; the others' columns are zero, y's the identity.
+  bool columnByAd(int i) const { return nonlinear(i); }
+  void jacobianColumns(const double*, double* J) const {
+    const int n = models->model<double>().nv(), m = outputs();
+    for (int i = 0; i < n + m; ++i)
+      if (!columnByAd(i)) std::fill(J + i * m, J + (i + 1) * m, 0.0);
+    for (int c = 0; c < m; ++c) J[c + (n + c) * m] = 1.0;
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -241,6 +265,10 @@ struct RestitutionBalance {
     const bool side = (j < n && i < 2 * n) || (before && j >= 2 * n && j < 3 * n && i < 4 * n);
     return side && contact->moves_with[i % n] && contact->moves_with[j % n];
   }
+  // The Jacobian by AD for the q's it declares nonlinear; q̇'s columns are −nᵀJ(q) (and −e nᵀJ(q⁻)),
+  // a⁺'s and a⁻'s ±1, the other q's zero (jacobianColumns, functions.cpp).
+  bool columnByAd(int i) const { return nonlinear(i); }
+  void jacobianColumns(const double* x, double* J) const;
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
@@ -283,6 +311,10 @@ struct SlipSlack {
     if (i >= 2 * n && i < 2 * n + contact->freeAxes()) return j < 2 * n && contact->moves_with[j % n];
     return j < n && i < 2 * n && contact->moves_with[i % n] && contact->moves_with[j];
   }
+  // The Jacobian by AD for the inputs it declares nonlinear; q̇'s columns are ±d_iᵀ J(q), γ's −1,
+  // ψ's the identity, the other q's zero (jacobianColumns, functions.cpp).
+  bool columnByAd(int i) const { return nonlinear(i); }
+  void jacobianColumns(const double* x, double* J) const;
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();

@@ -5,7 +5,8 @@
 // so that nothing touches the heap during a solve. Generic dynamic-size AD over the whole problem
 // is what makes AD slow (drake#8482: Drake's AutoDiffXd mass matrix is ~140× slower than double).
 //
-//   Jacobian: x seeded with Dual<8> directions, ⌈n/8⌉ evaluations.
+//   Jacobian: x seeded with Dual<8> directions, ⌈n/8⌉ evaluations; fewer when the functor forms
+//   some columns itself (SuppliesJacobianColumns: the equations of motion's M(q), −B and −Jᵀ).
 //   Hessian of φ = λᵀF: nested duals, the outer one carrying one direction e_i and the inner one
 //   a chunk of 8 directions e_j (j ≤ i), so the outer derivative's inner derivatives are
 //   ∂²φ/∂x_i∂x_j; each pair of the lower triangle once, about ⌈n(n+1)/16⌉ evaluations but at
@@ -71,6 +72,17 @@ concept SuppliesHessianPairs = DeclaresHessianPairs<F> && requires(const F& f, c
   f.addHessian(x, x, H);
 };
 
+// A functor may form some columns of its Jacobian itself: `bool columnByAd(int i) const` false for
+// them and `void jacobianColumns(const double* x, double* J) const` writing each of them whole
+// (zeros too) into J (outputs × inputs, column-major), leaving the others. The AD chunks then seed
+// the other inputs only: for a functor affine in most of its inputs with coefficients it knows in
+// closed form, a fraction of the evaluations.
+template <class F>
+concept SuppliesJacobianColumns = requires(const F& f, const double* x, double* J) {
+  { f.columnByAd(0) } -> std::convertible_to<bool>;
+  f.jacobianColumns(x, J);
+};
+
 // A LocalFunction from a functor F with `int inputs() const`, `int outputs() const` and
 // `template <class S> void operator()(const S* x, S* y) const`, evaluated for S = double, Dual
 // and Dual2 (or Dual2Small). The work arrays and the Hessian's plan of directions are made once, here; the
@@ -95,6 +107,8 @@ class AdFunction final : public LocalFunction {
   int hessianSweeps() const { return static_cast<int>(sweeps_.size()); }
   // Whether the sweeps run in Dual2Small (every sweep's inner directions fit kSmallChunk).
   bool smallSweeps() const { return small_; }
+  // The Jacobian's evaluations in Dual: one per chunk of the columns by AD (tests).
+  int jacobianSweeps() const { return (static_cast<int>(ad_columns_.size()) + kChunk - 1) / kChunk; }
 
  private:
   // One evaluation in Dual2: the outer direction e_outer, inner directions e_inner[0..count).
@@ -112,6 +126,7 @@ class AdFunction final : public LocalFunction {
   bool small_ = false;
   std::vector<Sweep> sweeps_;
   std::vector<int> linear_;  // the inputs in L (their pairs are zero in H)
+  std::vector<int> ad_columns_;  // the Jacobian's columns by AD (all but those F supplies)
   mutable Eigen::Matrix<Dual, Eigen::Dynamic, 1> xd_, yd_;
   mutable Eigen::Matrix<Dual2, Eigen::Dynamic, 1> x2_, y2_;
   mutable Eigen::Matrix<Dual2Small, Eigen::Dynamic, 1> x2s_, y2s_;
@@ -125,6 +140,11 @@ AdFunction<F>::AdFunction(F f)
     for (int i = 0; i < n_; ++i) nonlinear[i] = f_.nonlinear(i);
   for (int i = 0; i < n_; ++i)
     if (!nonlinear[i]) linear_.push_back(i);
+  for (int i = 0; i < n_; ++i) {
+    if constexpr (SuppliesJacobianColumns<F>)
+      if (!f_.columnByAd(i)) continue;
+    ad_columns_.push_back(i);
+  }
   // The pairs (i, j) of H to compute, each once, grouped by outer direction: a row i ∈ N holds
   // its diagonal and (i, j) for every j ∈ L (only e_i can carry those: L has no outer
   // directions); each pair of two nonlinear inputs goes to the row of either, whichever has room
@@ -175,16 +195,21 @@ void AdFunction<F>::value(const double* x, double* y) const {
 
 template <class F>
 void AdFunction<F>::jacobian(const double* x, double* J) const {
-  for (int first = 0; first < n_; first += kChunk) {
-    for (int i = 0; i < n_; ++i) {
-      xd_[i].value() = x[i];
-      xd_[i].derivatives().setZero();
-      if (i >= first && i < first + kChunk) xd_[i].derivatives()[i - first] = 1.0;
-    }
+  if constexpr (SuppliesJacobianColumns<F>) f_.jacobianColumns(x, J);
+  const int count = static_cast<int>(ad_columns_.size());
+  for (int i = 0; i < n_; ++i) {
+    xd_[i].value() = x[i];
+    xd_[i].derivatives().setZero();
+  }
+  for (int first = 0; first < count; first += kChunk) {
+    const int cols = std::min(kChunk, count - first);
+    for (int c = 0; c < cols; ++c) xd_[ad_columns_[first + c]].derivatives()[c] = 1.0;
     f_(xd_.data(), yd_.data());
-    const int cols = std::min(kChunk, n_ - first);
-    for (int r = 0; r < m_; ++r)
-      for (int c = 0; c < cols; ++c) J[r + (first + c) * m_] = yd_[r].derivatives()[c];
+    for (int c = 0; c < cols; ++c) {
+      double* column = J + ad_columns_[first + c] * m_;
+      for (int r = 0; r < m_; ++r) column[r] = yd_[r].derivatives()[c];
+      xd_[ad_columns_[first + c]].derivatives()[c] = 0.0;
+    }
   }
 }
 

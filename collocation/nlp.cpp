@@ -1,5 +1,6 @@
 #include "collocation/nlp.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -231,7 +232,10 @@ bool Nlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, I
     const int* pos = jac_pos_.data() + jac_first_[bi];
     for (int k = 0; k < count; ++k) values[pos[k]] += local_d_[k];
   }
-  return true;
+  // A value that is not finite is an evaluation error for Ipopt (it cuts the step back), not a
+  // matrix for MUMPS: Ipopt does not check derivatives (check_derivatives_for_naninf), and MUMPS's
+  // analysis of such a matrix fails (and leaks).
+  return std::all_of(values, values + nele_jac, [](double v) { return std::isfinite(v); });
 }
 
 bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_factor, Ipopt::Index,
@@ -262,7 +266,7 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     for (int j = 0; j < n; ++j)
       for (int i = j; i < n; ++i) values[pos[k++]] += local_d_[i + j * n];
   }
-  return true;
+  return std::all_of(values, values + nele_hess, [](double v) { return std::isfinite(v); });  // as eval_jac_g
 }
 
 void Nlp::finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,

@@ -215,6 +215,14 @@ SALTUS_INLINE void forEachJacobianColumn(const dynamics::Model<S>& model, const 
   forEachJacobianColumn(model, data, pair, x, x, std::forward<F>(fn));
 }
 
+// A free contact point's relative Jacobian J_A(x_A) − J_B(planePoint(s)), the Jacobian of
+// relativeVelocityAt: B's material point at plane coordinates s.
+template <class S, class F>
+SALTUS_INLINE void forEachJacobianColumnAt(const dynamics::Model<S>& model, const dynamics::Data<S>& data,
+                                           const ContactPair& pair, const S* s, F&& fn) {
+  forEachJacobianColumn(model, data, pair, contactPoint(pair, data), planePoint(pair, data, s), std::forward<F>(fn));
+}
+
 // The relative Jacobian J_A(x) − J_B(x) (3 × nv, world coordinates): J q̇ is the relative velocity
 // without the surface's motion. Not for a stop (see normalRow).
 template <class S>
@@ -258,8 +266,7 @@ template <class S>
 void addReactionAt(const dynamics::Model<S>& model, const dynamics::Data<S>& data, const ContactPair& pair,
                    const S& r_n, const Vec3<S>& f_t, const S* s, S* tau) {
   const Vec3<S> f = planeNormal(pair, data) * r_n + f_t;
-  forEachJacobianColumn(model, data, pair, contactPoint(pair, data), planePoint(pair, data, s),
-                        [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { tau[k] += c.dot(f); });
+  forEachJacobianColumnAt(model, data, pair, s, [&](int k, const Vec3<S>& c) SALTUS_LAMBDA_INLINE { tau[k] += c.dot(f); });
 }
 
 }  // namespace saltus::contact

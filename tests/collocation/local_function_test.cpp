@@ -107,6 +107,13 @@ bool compareIfIs(const LocalFunction& f, const Eigen::VectorXd& x, const Eigen::
   const Eigen::MatrixXd H = lowerHessian(*ad, x, lambda), Hfull = lowerHessian(full, x, lambda);
   EXPECT_LT((H - Hfull).cwiseAbs().maxCoeff(), 1e-12 * (1 + Hfull.cwiseAbs().maxCoeff())) << name;
   EXPECT_LE(ad->hessianSweeps(), full.hessianSweeps()) << name;
+  // The Jacobian: the columns a functor forms itself (the EOM's M(q), −B, −Jᵀ ∂f/∂r) against AD
+  // of every column. Every entry is overwritten.
+  Eigen::MatrixXd J = Eigen::MatrixXd::Constant(f.outputs(), f.inputs(), 1234.0), Jfull = J;
+  ad->jacobian(x.data(), J.data());
+  full.jacobian(x.data(), Jfull.data());
+  EXPECT_LT((J - Jfull).cwiseAbs().maxCoeff(), 1e-12 * (1 + Jfull.cwiseAbs().maxCoeff())) << name;
+  EXPECT_LE(ad->jacobianSweeps(), full.jacobianSweeps()) << name;
   if (seen.insert(name).second) {
     EXPECT_LT(ad->hessianSweeps(), full.hessianSweeps()) << name;
   }
@@ -165,6 +172,17 @@ TEST(AdFunction, DeclaredLinearInputsLegged) {
     std::erase_if(p.bounds, [&](const PointBound& b) { return b.element >= 0 && b.element < p.N - 1; });
     remesh(p, 2, 2);
     checkDeclaredLinearity(p, Method::Impulsive, 5);  // eom, gap, restitution (feet), slip, integration
+    // The EOM's Jacobian by AD over q and q̇ only (q at a jump): ⌈2n/8⌉ and ⌈n/8⌉ chunks.
+    const Transcription t(p, Method::Impulsive);
+    const int n = t.models().model<double>().nv(), jump = (n + kChunk - 1) / kChunk, point = (2 * n + kChunk - 1) / kChunk;
+    std::set<int> sweeps;
+    for (const Block& b : t.blocks())
+      if (const auto* eom = dynamic_cast<const AdFunction<EquationOfMotion>*>(b.f.get())) {
+        EXPECT_TRUE(eom->jacobianSweeps() == jump || eom->jacobianSweeps() == point) << name;
+        EXPECT_LT(eom->jacobianSweeps(), (eom->inputs() + kChunk - 1) / kChunk) << name;
+        sweeps.insert(eom->jacobianSweeps());
+      }
+    EXPECT_EQ(sweeps, (std::set<int>{jump, point})) << name;
   }
 }
 

@@ -494,6 +494,24 @@ TEST(Nlp, TheTaskStageBoundsTheProductsAndWeighsThemInTheCost) {
   }
 }
 
+// Derivatives at a point that is not finite are an evaluation error (false), not values for
+// MUMPS; at a finite point they are evaluated as usual.
+TEST(Nlp, DerivativesThatAreNotFiniteAreAnEvaluationError) {
+  const Problem p = loadProblem("point_mass_drop");
+  const Transcription t(p, Method::Impulsive);
+  Nlp nlp(t, Stage::Feasibility, t.nullSeed());
+  Ipopt::Index n = 0, m = 0, nnz_j = 0, nnz_h = 0;
+  Ipopt::TNLP::IndexStyleEnum style;
+  ASSERT_TRUE(nlp.get_nlp_info(n, m, nnz_j, nnz_h, style));
+  std::vector<double> jac(nnz_j), hess(nnz_h), lambda(m, 0.5);
+  Eigen::VectorXd x = randomPoint(t, 4);
+  EXPECT_TRUE(nlp.eval_jac_g(n, x.data(), true, m, nnz_j, nullptr, nullptr, jac.data()));
+  EXPECT_TRUE(nlp.eval_h(n, x.data(), true, 1.0, m, lambda.data(), true, nnz_h, nullptr, nullptr, hess.data()));
+  x[t.layout()[1].points[0].q] = std::nan("");
+  EXPECT_FALSE(nlp.eval_jac_g(n, x.data(), true, m, nnz_j, nullptr, nullptr, jac.data()));
+  EXPECT_FALSE(nlp.eval_h(n, x.data(), true, 1.0, m, lambda.data(), true, nnz_h, nullptr, nullptr, hess.data()));
+}
+
 // The penalty stage: each product A·B leaves the constraints (Ipopt sees the others, in order) and
 // enters the cost as Σ w A·B with the feasibility stage's weights; its ε are fixed at 0. The
 // Hessian of its Lagrangian is the feasibility stage's with each product row's multiplier at σ·w.
