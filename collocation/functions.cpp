@@ -151,10 +151,7 @@ void EquationOfMotion::jacobianColumns(const double* x, double* J) const {
     column[actuated[k]] = -1.0;
   }
   if (contacts->empty()) return;
-  for (int i = 0; i < model.nbodies(); ++i) {
-    const int p = model.parent[i];
-    data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
-  }
+  dynamics::composeWorldPoses(model, data);
   // The reaction's generalised force −J_cᵀ f_c(r_n, t) is linear in r_n for fixed t and in t for
   // fixed r_n: each column is the force of the derivative ∂f_c/∂r_n or ∂f_c/∂t_i, put through the
   // contact layer as operator() puts f_c.

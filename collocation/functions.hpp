@@ -137,10 +137,7 @@ struct EquationOfMotion {
     const auto& tau = with_dynamics ? dynamics::rnea(model, data, ConstMap<S>(q, n), ConstMap<S>(v, n), ConstMap<S>(a, n))
                                     : dynamics::rnea(model, data, ConstMap<S>(q, n), zero, ConstMap<S>(a, n));
     for (int i = 0; i < n; ++i) y[i] = tau[i];
-    for (int i = 0; i < model.nbodies(); ++i) {
-      const int p = model.parent[i];
-      data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
-    }
+    dynamics::composeWorldPoses(model, data);
     // − Σ J_cᵀ f_c, J_c the contact layer's relative Jacobian (contact::addReaction adds Jᵀ f:
     // here with the reaction's opposite; − sign r_n on a stop's coordinate).
     for (const ContactPair& c : *contacts) {

@@ -6,7 +6,8 @@
 // is what makes AD slow (drake#8482: Drake's AutoDiffXd mass matrix is ~140× slower than double).
 //
 //   Jacobian: x seeded with Dual<8> directions, ⌈n/8⌉ evaluations; fewer when the functor forms
-//   some columns itself (SuppliesJacobianColumns: the equations of motion's M(q), −B and −Jᵀ).
+//   some columns itself (SuppliesJacobianColumns: the equations of motion's M(q), −B and −Jᵀ;
+//   the slip's, restitution's and gap's velocity and slack columns).
 //   Hessian of φ = λᵀF: nested duals, the outer one carrying one direction e_i and the inner one
 //   a chunk of 8 directions e_j (j ≤ i), so the outer derivative's inner derivatives are
 //   ∂²φ/∂x_i∂x_j; each pair of the lower triangle once, about ⌈n(n+1)/16⌉ evaluations but at

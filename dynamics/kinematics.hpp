@@ -59,15 +59,22 @@ SALTUS_INLINE Motion<S> jointAcceleration(const Model<S>& model, const Data<S>& 
   return multiJointVelocity(model, i, &data.S_joint[k], a.data() + k);
 }
 
+// World poses ^iX_0 = ^iX_λ ^λX_0 composed from the joint transforms already in data.X_up (left
+// there by updateJointTransform, RNEA or CRBA), parents before children.
+template <class S>
+void composeWorldPoses(const Model<S>& model, Data<S>& data) {
+  for (int i = 0; i < model.nbodies(); ++i) {
+    const int p = model.parent[i];
+    data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
+  }
+}
+
 // Poses: data.X_up, data.X_world.
 template <class S>
 void forwardKinematics(const Model<S>& model, Data<S>& data, const VecRef<S>& q) {
   checkConfigurationSize(model, q.size(), "forwardKinematics", "q");
-  for (int i = 0; i < model.nbodies(); ++i) {
-    updateJointTransform(model, data, i, q);
-    const int p = model.parent[i];
-    data.X_world[i] = p < 0 ? data.X_up[i] : data.X_up[i] * data.X_world[p];
-  }
+  for (int i = 0; i < model.nbodies(); ++i) updateJointTransform(model, data, i, q);
+  composeWorldPoses(model, data);
 }
 
 // Poses and velocities; also data.a_bias, the body accelerations when q̈ = 0 (the J̇v terms).
