@@ -201,6 +201,14 @@ struct PlaneCoordinate {
   int axis = 0;
   int inputs() const { return models->model<double>().nv(); }
   int outputs() const { return 1; }
+  // Of q, only the coordinates the contact moves with: the others' columns are zero.
+  bool nonlinear(int i) const { return contact->moves_with[i]; }
+  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }
+  bool columnByAd(int i) const { return nonlinear(i); }
+  void jacobianColumns(const double*, double* J) const {
+    for (int i = 0; i < inputs(); ++i)
+      if (!columnByAd(i)) J[i] = 0.0;
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     auto& data = models->data<S>();
@@ -225,6 +233,18 @@ struct FreePointOffset {
   // q, of the coordinates the contact moves with; s, d⁺, d⁻ enter with coefficients ±1.
   bool nonlinear(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
   bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }
+  // The Jacobian by AD for those q only: the other q's columns are zero, s's −1, d⁺'s −1, d⁻'s +1.
+  bool columnByAd(int i) const { return nonlinear(i); }
+  void jacobianColumns(const double*, double* J) const {
+    const int n = models->model<double>().nv(), k = m();
+    for (int i = 0; i < n + 3 * k; ++i)
+      if (!columnByAd(i)) std::fill(J + i * k, J + (i + 1) * k, 0.0);
+    for (int i = 0; i < k; ++i) {
+      J[i + (n + i) * k] = -1.0;
+      J[i + (n + k + i) * k] = -1.0;
+      J[i + (n + 2 * k + i) * k] = 1.0;
+    }
+  }
   template <class S>
   void operator()(const S* x, S* y) const {
     const int n = models->model<double>().nv();
