@@ -99,11 +99,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
     options.solve.tighten_within = *opt.tighten_within;
   }
-  if (opt.penalty_iterations) {
-    if (*opt.penalty_iterations < 0)
-      throw UsageError("--penalty-iterations: expected a non-negative iteration count (0: no penalty stage)");
-    options.penalty_iterations = *opt.penalty_iterations;
-  }
+  options.penalty_iterations = opt.penalty_iterations;  // checked by adjustedProblem, below
   if (!opt.task_penalty.empty()) {
     if (opt.task_penalty != "on" && opt.task_penalty != "off")
       throw UsageError("--task-penalty: expected on or off, got '" + opt.task_penalty + "'");

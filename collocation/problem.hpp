@@ -145,13 +145,14 @@ struct Problem {
   // cost.penalty_weight, not bounded by the tolerance; its result is still its best point with
   // every product within the tolerance.
   bool task_penalty = false;
-  // A method's own values of the two above (a problem file's solve.impulsive, solve.continuous,
-  // solve.first-order), in their place for a solve with that method: adjustedProblem applies
-  // them, before the solve's own options. On the biped the penalty form pays for the impulsive
-  // method only (models/problems/biped_stop.yaml).
+  // A method's own values of the two above and of cost.penalty_weight (a problem file's
+  // solve.impulsive, solve.continuous, solve.first-order), in their place for a solve with that
+  // method: adjustedProblem applies them, before the solve's own options. On the biped the
+  // penalty form pays for the impulsive method only (models/problems/biped_stop.yaml).
   struct MethodSolve {
     std::optional<int> penalty_iterations;
     std::optional<bool> task_penalty;
+    std::optional<double> penalty_weight;
   };
   std::map<Method, MethodSolve> method_solve;
   // Ipopt options by name; the value's type is Ipopt's: numbers are given as text and converted

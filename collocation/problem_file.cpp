@@ -507,9 +507,15 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     const YAML::Node s = node[toString(m)];
     if (!s.IsDefined()) continue;
     const std::string at = std::string("solve.") + toString(m);
-    r_.checkMap(s, at, {"penalty_iterations", "task_penalty"}, true);
+    r_.checkMap(s, at, {"penalty_iterations", "task_penalty", "penalty_weight"}, true);
     if (s.IsNull()) continue;
-    readPenaltyKeys(s, at, p_.method_solve[m]);
+    Problem::MethodSolve& own = p_.method_solve[m];
+    readPenaltyKeys(s, at, own);
+    if (const YAML::Node w = s["penalty_weight"]; w.IsDefined()) {  // cost.penalty_weight's, for this method
+      own.penalty_weight = r_.number(w, at + ".penalty_weight");
+      if (!(*own.penalty_weight >= 0))
+        r_.fail(w, at + ".penalty_weight", "a weight must be non-negative, got " + fmt(*own.penalty_weight));
+    }
   }
 }
 

@@ -18,6 +18,7 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   if (const auto m = problem.method_solve.find(options.method); m != problem.method_solve.end()) {
     if (m->second.penalty_iterations) problem.penalty_iterations = *m->second.penalty_iterations;
     if (m->second.task_penalty) problem.task_penalty = *m->second.task_penalty;
+    if (m->second.penalty_weight) problem.cost.penalty_weight = *m->second.penalty_weight;
   }
   problem.method_solve.clear();  // applied: the problem as solved
   if (options.P && (*options.P < 1 || *options.P > 9))
@@ -181,6 +182,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["restarts"] = problem.restarts;
   j["penalty_iterations"] = problem.penalty_iterations;  // as solved: the method's own, or the options'
   j["task_penalty"] = problem.task_penalty;
+  j["penalty_weight"] = problem.cost.penalty_weight;
   j["hints_used"] = problem.hints.size();  // the hints imposed (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["feasible"] = r.feasible;

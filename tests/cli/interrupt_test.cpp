@@ -225,6 +225,7 @@ TEST(BeforeAnyWork, OptionsAndOutputFoldersAreCheckedFirst) {
       // the value as written, not as converted (1e400 is read as inf)
       {{"simulate", "ball_drop", "--dt", "1e400", "--out", out}, "got inf (written '1e400')"},
       {{"optimize", "point_mass_drop", "--seed-scale", "-1", "--out", out}, "--seed-scale: expected a non-negative number, got '-1'"},
+      {{"optimize", "point_mass_drop", "--penalty-iterations", "-1", "--out", out}, "--penalty-iterations: expected a non-negative iteration count (0: no penalty stage)"},
       {{"optimize", "point_mass_drop", "--set", "height=-1", "--out", out}, "evaluates to -nan with height = -1 (--set)"},
       {{"optimize", "point_mass_drop", "--seed-from", (dir / "nowhere").string(), "--out", out}, "--seed-from: " + (dir / "nowhere").string() + ": no such solution"},
       {{"optimize", "point_mass_drop", "--seed-inputs", (dir / "push.csv").string(), "--out", out}, "--seed-inputs: " + (dir / "push.csv").string() + ": an input schedule drives a problem's inputs, and problem 'point_mass_drop' has none"},

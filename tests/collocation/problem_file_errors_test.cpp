@@ -48,7 +48,9 @@ TEST(ProblemFileErrors, AMethodsOwnPenaltyKeys) {
   expectError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",
               {"expected a non-negative iteration count", "got -1"});
   expectError("bad_method_solve_key.yaml", "solve.first-order.restarts",
-              {"unknown key 'restarts'", "expected one of: penalty_iterations, task_penalty"});
+              {"unknown key 'restarts'", "expected one of: penalty_iterations, task_penalty, penalty_weight"});
+  expectError("bad_method_penalty_weight.yaml", "solve.impulsive.penalty_weight",
+              {"a weight must be non-negative", "got -10"});
 }
 TEST(ProblemFileErrors, SceneKeyBesideASceneFile) {
   expectError("scene_reference_with_model.yaml", "model", {"the scene comes from 'skateboard'", "none of its keys"});

@@ -413,6 +413,8 @@ TEST_F(FullProblem, CostSolveAndIpopt) {
   ASSERT_EQ(p_.method_solve.size(), 2u);
   EXPECT_EQ(p_.method_solve.at(Method::Impulsive).penalty_iterations, 250);
   EXPECT_FALSE(p_.method_solve.at(Method::Impulsive).task_penalty);
+  EXPECT_EQ(p_.method_solve.at(Method::Impulsive).penalty_weight, 10.0);
+  EXPECT_FALSE(p_.method_solve.at(Method::FirstOrder).penalty_weight);
   EXPECT_FALSE(p_.method_solve.at(Method::FirstOrder).penalty_iterations);
   EXPECT_EQ(p_.method_solve.at(Method::FirstOrder).task_penalty, false);
   EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{

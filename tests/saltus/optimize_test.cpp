@@ -182,13 +182,15 @@ TEST(ApiProblemOptions, AMethodsOwnPenaltyKeysApplyToItsSolvesOnly) {
   using saltus::collocation::Method;
   saltus::collocation::Problem problem = saltus::loadProblem("point_mass_drop", {});
   problem.penalty_iterations = 100;
-  problem.method_solve[Method::Impulsive] = {300, true};
+  problem.cost.penalty_weight = 2;
+  problem.method_solve[Method::Impulsive] = {300, true, 10.0};
   problem.method_solve[Method::FirstOrder].task_penalty = true;
   saltus::OptimizeOptions options;
   const auto adjusted = [&](Method m) {
     options.method = m;
     const saltus::collocation::Problem a = saltus::adjustedProblem(problem, options);
     EXPECT_TRUE(a.method_solve.empty());  // applied
+    EXPECT_EQ(a.cost.penalty_weight, m == Method::Impulsive ? 10.0 : 2.0);
     return std::pair{a.penalty_iterations, a.task_penalty};
   };
   EXPECT_EQ(adjusted(Method::Impulsive), std::pair(300, true));
@@ -199,7 +201,7 @@ TEST(ApiProblemOptions, AMethodsOwnPenaltyKeysApplyToItsSolvesOnly) {
   EXPECT_EQ(adjusted(Method::Impulsive), std::pair(0, false));  // the options last
   // A solve with the method's own keys starts with the penalty stage, and summary.json records
   // the values it was solved with.
-  problem.method_solve[Method::Impulsive] = {50, false};
+  problem.method_solve[Method::Impulsive] = {50, false, 3.0};
   saltus::OptimizeOptions solve;
   solve.restarts = 0;
   const saltus::OptimizeResult r = saltus::optimize(problem, solve);
@@ -209,6 +211,7 @@ TEST(ApiProblemOptions, AMethodsOwnPenaltyKeysApplyToItsSolvesOnly) {
   const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(r));
   EXPECT_EQ(j.at("penalty_iterations").get<int>(), 50);
   EXPECT_FALSE(j.at("task_penalty").get<bool>());
+  EXPECT_EQ(j.at("penalty_weight").get<double>(), 3.0);
 }
 
 TEST(ApiProblemOptions, ChangesAreAppliedAndBadOnesNamed) {
