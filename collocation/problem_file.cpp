@@ -1,16 +1,17 @@
+// Problem files (problem_file.hpp): the scene, the mesh, the inputs, the conditions and hints, the
+// surface velocities and the cost. How the problem is solved (`solve`, `ipopt`, `task_ipopt`) is
+// read in problem_file_solve.cpp; the reader both use is problem_reader.hpp.
 #include "collocation/problem_file.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <set>
-#include <tuple>
 
 #include "collocation/problem_fingerprint.hpp"
-#include "collocation/solver.hpp"
+#include "collocation/problem_reader.hpp"
 #include "scene/scenario.hpp"
 #include "scene/yaml_reader.hpp"
 
@@ -44,43 +45,21 @@ bool isInfinity(const std::string& s, bool& negative) {
   return negative || pos.count(s) > 0;
 }
 
-// Reads the problem keys of a problem file into `p`, whose scene is already read.
-class ProblemReader {
- public:
-  ProblemReader(YamlReader& reader, Problem& problem) : r_(reader), p_(problem) {}
+// `input` and `duration` are scenario keys with no meaning in a problem.
+void refuseSceneOnlyKeys(const YamlReader& r, const YAML::Node& root) {
+  if (root["input"].IsDefined())
+    r.fail(YamlReader::keyMark(root, "input"), "input",
+           "a problem has no constant input: list the actuated coordinates under `inputs` (the optimiser "
+           "chooses their forces), with bounds there or under `bounds.u`");
+  if (root["duration"].IsDefined())
+    r.fail(YamlReader::keyMark(root, "duration"), "duration",
+           "a problem has no fixed duration: the element lengths are variables; give the horizon with "
+           "mesh.N, mesh.h_max and mesh.total_time ({at_least: T} or {equal: T})");
+}
 
-  void read(const YAML::Node& root);
+}  // namespace
 
- private:
-  void readMesh(const YAML::Node& node);
-  void readInputs(const YAML::Node& node);
-  void readInitialFree(const YAML::Node& node);
-  std::vector<int> readCoordinateList(const YAML::Node& node, const std::string& path);
-  void readConditions(const YAML::Node& map, const std::string& path, int element, int point,
-                      std::vector<PointBound>& out);
-  void readPointConditions(const YAML::Node& node, const std::string& path, std::vector<PointBound>& out);
-  std::pair<int, int> readAt(const YAML::Node& entry, const std::string& path, const std::string& key = "at");
-  void readSurfaceVelocity(const YAML::Node& node, const YAML::Node& root);
-  void readCost(const YAML::Node& node);
-  void readSolve(const YAML::Node& node);
-  void readPenaltyKeys(const YAML::Node& node, const std::string& at, Problem::MethodSolve& into);
-  void readIpopt(const YAML::Node& node, const std::string& key, std::map<std::string, std::string>& options);
-
-  int coordinate(const YAML::Node& name_node, const std::string& path) const;
-  int input(const YAML::Node& name_node, const std::string& path) const;
-  int gapIndex(const YAML::Node& name_node, const std::string& path) const;
-  // One side of a range: a number, null (unbounded) or ±.inf.
-  double bound(const YAML::Node& n, const std::string& path, double unbounded);
-  // A number (fixes the value: lower = upper) or [lower, upper].
-  void readRange(const YAML::Node& n, const std::string& path, double& lower, double& upper);
-  std::string origin(const YAML::Node& n) const {
-    const YAML::Mark m = n.Mark();
-    return m.is_null() || m.line < 0 ? r_.file() : r_.file() + ":" + std::to_string(m.line + 1);
-  }
-
-  YamlReader& r_;
-  Problem& p_;
-};
+namespace detail {
 
 int ProblemReader::coordinate(const YAML::Node& name_node, const std::string& path) const {
   const std::string name = r_.text(name_node, path);
@@ -437,133 +416,6 @@ void ProblemReader::readCost(const YAML::Node& node) {
   }
 }
 
-void ProblemReader::readSolve(const YAML::Node& node) {
-  if (!node.IsDefined()) return;
-  r_.checkMap(node, "solve",
-              {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
-               "impulsive", "continuous", "first-order"},
-              true);
-  if (node.IsNull()) return;
-  p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
-  if (!(p_.complementarity_tolerance > 0))
-    r_.fail(node["complementarity_tolerance"], "solve.complementarity_tolerance",
-            "the tolerance must be positive, got " + fmt(p_.complementarity_tolerance));
-  if (node["task_stage"].IsDefined()) p_.task_stage = r_.boolean(node["task_stage"], "solve.task_stage");
-  if (const YAML::Node s = node["seed"]; s.IsDefined()) {
-    try {
-      p_.seed_kind = parseSeedKind(s.IsNull() ? "null" : r_.text(s, "solve.seed"));
-    } catch (const std::invalid_argument& e) {
-      r_.fail(s, "solve.seed", e.what());
-    }
-  }
-  p_.seed_scale = r_.number(node, "solve", "seed_scale", p_.seed_scale);
-  if (!(p_.seed_scale >= 0))
-    r_.fail(node["seed_scale"], "solve.seed_scale", "the seed scale must be non-negative, got " + fmt(p_.seed_scale));
-  if (const YAML::Node s = node["random_seed"]; s.IsDefined()) {
-    const int seed = r_.integer(s, "solve.random_seed");
-    if (seed < 0) r_.fail(s, "solve.random_seed", "expected a non-negative integer, got " + std::to_string(seed));
-    p_.random_seed = static_cast<unsigned>(seed);
-  }
-  if (const YAML::Node s = node["restarts"]; s.IsDefined()) {
-    p_.restarts = r_.integer(s, "solve.restarts");
-    if (p_.restarts < 0) r_.fail(s, "solve.restarts", "expected a non-negative integer, got " + std::to_string(p_.restarts));
-  }
-  // A file named relative to the problem file, and where it was given.
-  for (auto [key, path, where] : {std::tuple{"seed_solution", &p_.seed_solution, &p_.seed_solution_origin},
-                                  std::tuple{"seed_inputs", &p_.seed_inputs, &p_.seed_inputs_origin}}) {
-    const YAML::Node s = node[key];
-    if (!s.IsDefined()) continue;
-    const std::string name = std::string("solve.") + key;
-    fs::path file = r_.text(s, name);
-    if (file.is_relative()) file = fs::path(r_.file()).parent_path() / file;
-    *path = file.lexically_normal().string();
-    *where = origin(s) + ": " + name;
-  }
-  if (p_.seed_kind == SeedKind::Solution && p_.seed_solution.empty())
-    r_.fail(node, "solve.seed_solution",
-            "seed: solution needs seed_solution: the directory (or trajectory.csv) of an earlier solution, relative "
-            "to the problem file");
-  // hessian: every stage's; feasibility_hessian: the feasibility and tightening stages'.
-  for (const char* key : {"hessian", "feasibility_hessian"}) {
-    const YAML::Node h = node[key];
-    if (!h.IsDefined()) continue;
-    const std::string where = std::string("solve.") + key;
-    const std::string kind = r_.text(h, where);
-    if (kind != "exact" && kind != "limited-memory")
-      r_.fail(h, where, "unknown hessian '" + kind + "'" + suggestion(kind, {"exact", "limited-memory"}) +
-                            "; expected one of: exact, limited-memory");
-    if (std::string(key) == "hessian") p_.exact_hessian = kind == "exact";
-    p_.feasibility_exact_hessian = kind == "exact";
-  }
-  if (node["derivative_check"].IsDefined())
-    p_.derivative_check = r_.boolean(node["derivative_check"], "solve.derivative_check");
-  // The penalty keys for every method, then a method's own (solve.<method>).
-  Problem::MethodSolve every;
-  readPenaltyKeys(node, "solve", every);
-  if (every.penalty_iterations) p_.penalty_iterations = *every.penalty_iterations;
-  if (every.task_penalty) p_.task_penalty = *every.task_penalty;
-  for (const Method m : {Method::Impulsive, Method::Continuous, Method::FirstOrder}) {
-    const YAML::Node s = node[toString(m)];
-    if (!s.IsDefined()) continue;
-    const std::string at = std::string("solve.") + toString(m);
-    r_.checkMap(s, at, {"penalty_iterations", "task_penalty", "penalty_weight"}, true);
-    if (s.IsNull()) continue;
-    Problem::MethodSolve& own = p_.method_solve[m];
-    readPenaltyKeys(s, at, own);
-    if (const YAML::Node w = s["penalty_weight"]; w.IsDefined()) {  // cost.penalty_weight's, for this method
-      own.penalty_weight = r_.number(w, at + ".penalty_weight");
-      if (!(*own.penalty_weight >= 0))
-        r_.fail(w, at + ".penalty_weight", "a weight must be non-negative, got " + fmt(*own.penalty_weight));
-    }
-  }
-}
-
-void ProblemReader::readPenaltyKeys(const YAML::Node& node, const std::string& at, Problem::MethodSolve& into) {
-  if (const YAML::Node s = node["task_penalty"]; s.IsDefined()) into.task_penalty = r_.boolean(s, at + ".task_penalty");
-  if (const YAML::Node s = node["penalty_iterations"]; s.IsDefined()) {
-    const int n = r_.integer(s, at + ".penalty_iterations");
-    if (n < 0)
-      r_.fail(s, at + ".penalty_iterations",
-              "expected a non-negative iteration count (0: no penalty stage), got " + std::to_string(n));
-    into.penalty_iterations = n;
-  }
-}
-
-void ProblemReader::readIpopt(const YAML::Node& node, const std::string& key,
-                              std::map<std::string, std::string>& options) {
-  if (!node.IsDefined()) return;
-  r_.checkNameMap(node, key);
-  if (node.IsNull()) return;
-  const std::map<std::string, std::string> owned = {{"hessian_approximation", "solve.hessian"},
-                                                    {"derivative_test", "solve.derivative_check"}};
-  for (auto it = node.begin(); it != node.end(); ++it) {
-    const std::string name = it->first.Scalar(), path = keyPath(key, name);
-    if (const auto o = owned.find(name); o != owned.end())
-      r_.fail(it->first, path, "set this through " + o->second + " instead");
-    if (!it->second.IsScalar())
-      r_.fail(it->second, path, "expected the option's value (a number or a word), got " + describe(it->second));
-    try {
-      checkIpoptOption(name, it->second.Scalar());
-    } catch (const IpoptOptionError& e) {
-      r_.fail(it->first, path, e.what());
-    }
-    options[name] = it->second.Scalar();
-  }
-}
-
-// `input` and `duration` are scenario keys with no meaning in a problem.
-void refuseSceneOnlyKeys(const YamlReader& r, const YAML::Node& root) {
-  if (root["input"].IsDefined())
-    r.fail(YamlReader::keyMark(root, "input"), "input",
-           "a problem has no constant input: list the actuated coordinates under `inputs` (the optimiser "
-           "chooses their forces), with bounds there or under `bounds.u`");
-  if (root["duration"].IsDefined())
-    r.fail(YamlReader::keyMark(root, "duration"), "duration",
-           "a problem has no fixed duration: the element lengths are variables; give the horizon with "
-           "mesh.N, mesh.h_max and mesh.total_time ({at_least: T} or {equal: T})");
-}
-
 void ProblemReader::read(const YAML::Node& root) {
   readMesh(r_.required(root, "", "mesh"));
   readInputs(root["inputs"]);
@@ -585,7 +437,7 @@ void ProblemReader::read(const YAML::Node& root) {
   readIpopt(root["task_ipopt"], "task_ipopt", p_.task_ipopt_options);
 }
 
-}  // namespace
+}  // namespace detail
 
 std::string problemsDirectory() {
   if (const char* env = std::getenv("SALTUS_PROBLEMS_DIR"); env && *env) return env;
@@ -692,7 +544,7 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
   problem.source = source;
   problem.parameters = reader.parameters();
   try {
-    ProblemReader(reader, problem).read(root);
+    detail::ProblemReader(reader, problem).read(root);
   } catch (const YAML::Exception& e) {  // not expected: every node is type-checked before use
     throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
   }

@@ -1,6 +1,7 @@
 // Problem files (collocation/problem_file.hpp) and the method names (problem.hpp): the built-in
 // problems with their documented values and --set overrides, every key of the format on a full
-// fixture (1-based elements in the file, 0-based in Problem). Bad input: problem_file_errors_test.cpp.
+// fixture (1-based elements in the file, 0-based in Problem). Bad input: problem_file_errors_test.cpp;
+// the solve, ipopt and task_ipopt sections: problem_file_solve_test.cpp.
 #include "collocation/problem_file.hpp"
 
 #include <gtest/gtest.h>
@@ -389,38 +390,12 @@ TEST_F(FullProblem, ConstantSurfaceVelocityBecomesAStepAtTheFirstElement) {
   EXPECT_EQ(belt[0].velocity, Eigen::Vector3d(0.2, 0, 0));
 }
 
-TEST_F(FullProblem, CostSolveAndIpopt) {
+TEST_F(FullProblem, CostAndParameters) {
   EXPECT_EQ(p_.cost.penalty_weight, 2.0);
   EXPECT_EQ(p_.cost.effort_weight, 0.5);
   EXPECT_EQ(p_.cost.max_coordinate, coordinate("pris"));
   EXPECT_EQ(p_.cost.max_weight, 1.0);
   EXPECT_TRUE(p_.cost.hasTask());
-  EXPECT_EQ(p_.complementarity_tolerance, 1e-5);
-  EXPECT_FALSE(p_.task_stage);
-  EXPECT_EQ(p_.seed_kind, SeedKind::Solution);
-  EXPECT_EQ(p_.seed_scale, 0.2);
-  EXPECT_EQ(p_.random_seed, 7u);
-  EXPECT_EQ(p_.seed_solution, kDataDir + "earlier/run");  // relative to the problem file
-  EXPECT_EQ(p_.seed_inputs, kDataDir + "scripts/push.csv");  // relative to the problem file as well
-  EXPECT_NE(p_.seed_inputs_origin.find("full.yaml:"), std::string::npos) << p_.seed_inputs_origin;
-  EXPECT_NE(p_.seed_inputs_origin.find(": solve.seed_inputs"), std::string::npos) << p_.seed_inputs_origin;
-  EXPECT_FALSE(p_.exact_hessian);           // hessian: every stage's,
-  EXPECT_TRUE(p_.feasibility_exact_hessian);  // then feasibility_hessian for the feasibility stage
-  EXPECT_TRUE(p_.derivative_check);
-  EXPECT_EQ(p_.penalty_iterations, 300);
-  EXPECT_TRUE(p_.task_penalty);
-  // solve.<method>: only the keys given (an empty map gives none).
-  ASSERT_EQ(p_.method_solve.size(), 2u);
-  EXPECT_EQ(p_.method_solve.at(Method::Impulsive).penalty_iterations, 250);
-  EXPECT_FALSE(p_.method_solve.at(Method::Impulsive).task_penalty);
-  EXPECT_EQ(p_.method_solve.at(Method::Impulsive).penalty_weight, 10.0);
-  EXPECT_FALSE(p_.method_solve.at(Method::FirstOrder).penalty_weight);
-  EXPECT_FALSE(p_.method_solve.at(Method::FirstOrder).penalty_iterations);
-  EXPECT_EQ(p_.method_solve.at(Method::FirstOrder).task_penalty, false);
-  EXPECT_EQ(p_.ipopt_options, (std::map<std::string, std::string>{
-                                  {"tol", "1e-8"}, {"max_iter", "500"}, {"mu_strategy", "adaptive"}}));
-  EXPECT_EQ(p_.task_ipopt_options,
-            (std::map<std::string, std::string>{{"obj_scaling_factor", "10"}, {"max_iter", "200"}}));
   EXPECT_EQ(p_.parameters, (std::map<std::string, double>{{"n_mid", 3}, {"top", 0.25}}));
 }
 

@@ -27,28 +27,11 @@ std::string errorOf(const std::function<void()>& f) {
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-// The line marked `# <-- error` in a fixture.
-int markedLine(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n)
-    if (contains(line, "# <-- error")) return n;
-  ADD_FAILURE() << path << " has no '# <-- error' line";
-  return -1;
-}
-
 // Loads the fixture; returns the message after checking file, line and key path.
 std::string expectError(const std::string& fixture, const std::string& key_path,
                         const std::vector<std::string>& parts) {
   const std::string path = kDataDir + fixture;
-  const std::string what = errorOf([&] { loadScene(path); });
-  const std::string where = path + ":" + std::to_string(markedLine(path)) + ":";
-  EXPECT_EQ(what.rfind(where, 0), 0u) << "expected to start with " << where << "\n" << what;
-  if (!key_path.empty()) {
-    EXPECT_TRUE(contains(what, ": " + key_path + ": ")) << key_path << "\n" << what;
-  }
-  for (const std::string& p : parts) EXPECT_TRUE(contains(what, p)) << p << "\n" << what;
-  return what;
+  return testing::expectMarkedError<ScenarioError>(path, [&] { loadScene(path); }, key_path, parts);
 }
 
 TEST(ScenarioErrors, UnknownKey) {

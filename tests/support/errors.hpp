@@ -6,6 +6,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -44,6 +45,23 @@ inline int lineOf(const std::string& path, const std::string& text) {
     if (line.find(text) != std::string::npos) return n;
   ADD_FAILURE() << path << " has no line containing '" << text << "'";
   return -1;
+}
+
+// The checks of a fixture broken on purpose, whose offending line carries the comment
+// `# <-- error`: loading it (`load`) throws an E whose message starts with "<path>:<that line>:",
+// names ": <key_path>: " (unless key_path is empty) and contains every one of `parts`. Returns the
+// message.
+template <class E>
+std::string expectMarkedError(const std::string& path, const std::function<void()>& load,
+                              const std::string& key_path, const std::vector<std::string>& parts) {
+  const std::string what = expectedMessageOf<E>(load);
+  const std::string where = path + ":" + std::to_string(lineOf(path, "# <-- error")) + ":";
+  EXPECT_EQ(what.rfind(where, 0), 0u) << "expected to start with " << where << "\n" << what;
+  if (!key_path.empty()) {
+    EXPECT_NE(what.find(": " + key_path + ": "), std::string::npos) << key_path << "\n" << what;
+  }
+  for (const std::string& p : parts) EXPECT_NE(what.find(p), std::string::npos) << p << "\n" << what;
+  return what;
 }
 
 inline std::string invalidArgumentOf(const std::function<void()>& f) {
