@@ -19,21 +19,30 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
   auto& data_d = models->data<Dual>();
   bool any_point = false;
   for (const ContactPair& c : *contacts) any_point = any_point || !c.isStop();
-  // First-order passes with q seeded, a chunk of coordinates at a time.
+  // The coordinates F depends on (dependsOn): the others' pairs are zero. Of those, the ones
+  // M(q) and C(q, q̇) depend on (inDynamics; not a world translation).
+  int depending[kMaxCoordinates], n_depending = 0, dynamic[kMaxCoordinates], n_dynamic = 0;
+  for (int i = 0; i < n; ++i) {
+    if (dependsOn(i)) depending[n_depending++] = i;
+    if (inDynamics(i)) dynamic[n_dynamic++] = i;
+  }
+  // First-order passes with q seeded, a chunk of those coordinates at a time.
   VecD q(n), zero = VecD::Zero(n), l(n);
   for (int i = 0; i < n; ++i) {
     q[i] = Dual(x[i], Eigen::Matrix<double, kChunk, 1>::Zero());
     l[i] = Dual(lambda[i], Eigen::Matrix<double, kChunk, 1>::Zero());
   }
-  for (int first = 0; first < n; first += kChunk) {
-    const int count = std::min(kChunk, n - first);
+  // At least one pass: the pairs (r_n, α) and a free point's (s, r_n), (s, α) have no q (first == 0).
+  for (int first = 0; first == 0 || first < n_depending; first += kChunk) {
+    const int count = std::min(kChunk, n_depending - first);
+    const int* seeded = depending + first;  // the chunk's coordinates: column c is q_seeded[c]
     for (int i = 0; i < n; ++i) q[i].derivatives().setZero();
-    for (int c = 0; c < count; ++c) q[first + c].derivatives()[c] = 1.0;
+    for (int c = 0; c < count; ++c) q[seeded[c]].derivatives()[c] = 1.0;
     // (q, q̈): ∂(M(q) λ)_j/∂q_i.
     const auto& Ml = dynamics::rnea(model_d, data_d, ConstMap<Dual>(q.data(), n), ConstMap<Dual>(zero.data(), n),
                                     ConstMap<Dual>(l.data(), n));
     for (int j = 0; j < n; ++j)
-      for (int c = 0; c < count; ++c) h(first_acceleration + j, first + c) += Ml[j].derivatives()[c];
+      for (int c = 0; c < count; ++c) h(first_acceleration + j, seeded[c]) += Ml[j].derivatives()[c];
     if (!any_point) continue;
     // (q, r) and (r_n, α): ∂f/∂r_n · w and ∂f/∂t_i · w as functions of q, w(q) = J(q) λ the
     // relative velocity at q̇ = λ; the normal and the directions carry q's derivatives when the
@@ -62,11 +71,11 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
         Eigen::Matrix<double, 3, kChunk> da;
         for (int r = 0; r < 3; ++r) av[r] = a[r].value(), da.row(r) = a[r].derivatives().transpose();
         const Eigen::Matrix<double, kChunk, 1> d = dw.transpose() * av + da.transpose() * wv;
-        for (int col = 0; col < count; ++col) h(row, first + col) -= scale * d[col];
+        for (int col = 0; col < count; ++col) h(row, seeded[col]) -= scale * d[col];
       };
       auto addRowConstant = [&](int row, const Eigen::Vector3d& a, double scale) {
         const Eigen::Matrix<double, kChunk, 1> d = dw.transpose() * a;
-        for (int col = 0; col < count; ++col) h(row, first + col) -= scale * d[col];
+        for (int col = 0; col < count; ++col) h(row, seeded[col]) -= scale * d[col];
       };
       if (c.body_b < 0) {
         Eigen::Vector3d df_drn = c.normal_B;
@@ -100,7 +109,7 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
           const Vec3<Dual> e = contact::relativeVelocityAtSlope(c, data_d, i);
           const int row = k + 1 + c.k() + i;
           const Dual fe = f.dot(e);
-          for (int col = 0; col < count; ++col) h(row, first + col) -= fe.derivatives()[col];
+          for (int col = 0; col < count; ++col) h(row, seeded[col]) -= fe.derivatives()[col];
           if (first != 0) continue;
           const Eigen::Vector3d ev(e[0].value(), e[1].value(), e[2].value());
           Eigen::Vector3d df_drn_v(df_drn[0].value(), df_drn[1].value(), df_drn[2].value());
@@ -121,14 +130,17 @@ void EquationOfMotion::addHessian(const double* x, const double* lambda, double*
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1> v = Eigen::VectorXd::Zero(n), psi(n);
   const ConstMap<double> qv(x, n), lv(lambda, n);
   auto form = [&]() { return lv.dot(dynamics::nonLinearEffects(model, data, qv, ConstMap<double>(v.data(), n))); };
-  for (int i = 0; i < n; ++i) {
+  // A world translation's rate is not in C q̇ (inDynamics): its pairs are zero.
+  for (int a = 0; a < n_dynamic; ++a) {
+    const int i = dynamic[a];
     v[i] = 1.0;
     psi[i] = form();
     v[i] = 0.0;
     h(n + i, n + i) += 2.0 * psi[i];
   }
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < i; ++j) {
+  for (int a = 0; a < n_dynamic; ++a)
+    for (int b = 0; b < a; ++b) {
+      const int i = dynamic[a], j = dynamic[b];
       v[i] = v[j] = 1.0;
       h(n + i, n + j) += form() - psi[i] - psi[j];
       v[i] = v[j] = 0.0;
@@ -142,6 +154,9 @@ void EquationOfMotion::jacobianColumns(const double* x, double* J) const {
   auto& data = models->data<double>();
   // M(q): CRBA leaves data.X_up (and a multi-coordinate joint's S_i(q)); the poses the contact
   // layer needs are composed from them as in operator().
+  // The q and q̇ F does not depend on (columnByAd): zero columns.
+  for (int i = 0; i < (with_dynamics ? 2 : 1) * n; ++i)
+    if (!columnByAd(i)) std::fill(J + i * n, J + (i + 1) * n, 0.0);
   const auto& M = dynamics::crba(model, data, ConstMap<double>(x, n));
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) J[i + (first_acceleration + j) * n] = M(i, j);

@@ -11,6 +11,7 @@
 #include "collocation/model_set.hpp"
 #include "contact/kinematics.hpp"
 #include "dynamics/rnea.hpp"
+#include "dynamics/world_translation.hpp"
 
 namespace saltus::collocation {
 
@@ -71,12 +72,24 @@ struct EquationOfMotion {
     return k;
   }
   int outputs() const { return nv(); }
+  // Whether M, C q̇ and g depend on coordinate k's position and rate: not on a world
+  // translation's (dynamics/world_translation.hpp). The reactions' −J_cᵀ f_c depend on q_k when
+  // some contact's Jacobian does (ContactPair::jacobian_with), and are affine in the world
+  // translations jointly. So F is affine in the world translations' q, and independent of their
+  // q̇ and of those q no contact's Jacobian depends on (zero columns).
+  bool inDynamics(int k) const { return !dynamics::isWorldTranslation(models->model<double>(), k); }
+  bool inReactions(int k) const {
+    for (const ContactPair& c : *contacts)
+      if (!c.isStop() && c.jacobian_with[k]) return true;
+    return false;
+  }
+  bool dependsOn(int k) const { return inDynamics(k) || inReactions(k); }
   // Affine in q̈ (or Δq̇), u and the tangential variables for fixed q, q̇, r_n; q̇ enters
   // quadratically (C(q, q̇) q̇), r_n times α_i in the Activation form's μ r_n α_i.
   bool nonlinear(int i) const {
     const int n = nv();
-    if (i < n) return true;                      // q
-    if (with_dynamics && i < 2 * n) return true;  // q̇
+    if (i < n) return inDynamics(i);                             // q
+    if (with_dynamics && i < 2 * n) return inDynamics(i - n);  // q̇
     int k = (with_dynamics ? 3 : 2) * n + inputs_count();
     for (const ContactPair& c : *contacts) {
       if (i == k) return friction == FrictionForm::Activation && c.k() > 0;  // r_n
@@ -98,19 +111,48 @@ struct EquationOfMotion {
   //   (q̇, q̇): ψ(q̇) = λᵀ C(q, q̇) q̇ = λᵀ RNEA(q, q̇, 0) without gravity is a quadratic form, so
   //            ∂²ψ/∂q̇_i² = 2ψ(e_i), ∂²ψ/∂q̇_i∂q̇_j = ψ(e_i + e_j) − ψ(e_i) − ψ(e_j)
   // The other pairs are zero: q̈, u and the tangential variables enter linearly, r_n only with α
-  // and s. The sweeps are left the pairs within q and between q and q̇.
+  // and s; F is affine in the world translations' q and does not depend on their q̇. The sweeps
+  // are left the pairs within q (of the coordinates F depends on, one of them not a world
+  // translation) and between q and q̇ (the dynamics' coordinates).
   bool pairByAd(int i, int j) const {  // i ≥ j
     const int n = nv();
-    return j < n && i < (with_dynamics ? 2 : 1) * n;
+    if (j >= n || i >= (with_dynamics ? 2 : 1) * n) return false;
+    if (i >= n) return inDynamics(i - n) && inDynamics(j);
+    return dependsOn(i) && dependsOn(j) && (inDynamics(i) || inDynamics(j));
   }
   void addHessian(const double* x, const double* lambda, double* H) const;
-  // The Jacobian by AD for q, q̇ and a free point's s only; the columns of the inputs F is affine
-  // in, with coefficients of q (and the reactions) alone, in jacobianColumns (functions.cpp):
+  // The pairs addHessian writes (i ≥ j): (q̇, q̇) and (q̈ or Δq̇, q) of the dynamics' coordinates,
+  // a contact's (r_n, q), (t_i, q) and (s, q) for the q its Jacobian depends on
+  // (ContactPair::jacobian_with), its (t_i, r_n) in the Activation form, and a free point's
+  // (s, r_n), (s, t_i).
+  bool pairSupplied(int i, int j) const {
+    const int n = nv(), first_acceleration = (with_dynamics ? 2 : 1) * n;
+    if (with_dynamics && j >= n && i < 2 * n) return inDynamics(i - n) && inDynamics(j - n);
+    if (i >= first_acceleration && i < first_acceleration + n) return j < n && inDynamics(j);
+    int k = first_acceleration + n + inputs_count();
+    for (const ContactPair& c : *contacts) {
+      const int end = k + 1 + c.k() + c.freeAxes();
+      if (i >= k && i < end) {
+        if (c.isStop()) return false;
+        if (j < n) return c.jacobian_with[j];
+        if (j < k || i == j) return false;
+        const int a = i - k, b = j - k;    // a > b: r_n is 0, t is 1 … k, s after
+        if (a <= c.k()) return b == 0 && friction == FrictionForm::Activation;  // (t_a, r_n)
+        return b <= c.k();                  // (s, r_n), (s, t_b); (s, s) is zero
+      }
+      k = end;
+    }
+    return false;
+  }
+  // The Jacobian by AD for the q and q̇ F depends on (the others' columns are zero) and a free
+  // point's s only; the columns of the inputs F is affine in, with coefficients of q (and the reactions)
+  // alone, in jacobianColumns (functions.cpp):
   //   q̈ or Δq̇: M(q) (CRBA, RBDA Table 6.2)    u: −B    r_n, t_i: −J_cᵀ ∂f_c/∂r_n, −J_cᵀ ∂f_c/∂t_i
-  // (a stop's r_n: −sign e_i). For the biped that is 3 of 7 chunks of 8 in continuous time.
+  // (a stop's r_n: −sign e_i). For the biped that is 2 of 7 chunks of 8 in continuous time.
   bool columnByAd(int i) const {
     const int n = nv();
-    if (i < (with_dynamics ? 2 : 1) * n) return true;  // q, q̇
+    if (i < n) return dependsOn(i);                            // q
+    if (with_dynamics && i < 2 * n) return inDynamics(i - n);  // q̇
     int k = (with_dynamics ? 3 : 2) * n + inputs_count();
     for (const ContactPair& c : *contacts) {
       if (i >= k + 1 + c.k() && i < k + 1 + c.k() + c.freeAxes()) return true;  // s
@@ -155,6 +197,23 @@ struct EquationOfMotion {
   }
 };
 
+// Whether a point-on-plane pair turns with coordinate k: it moves with it and k is not a world
+// translation (dynamics/world_translation.hpp). The pair's gap, plane coordinates, frame and
+// Jacobian are affine in the world translations jointly, for fixed values of these.
+inline bool turnsWith(const ContactPair& c, const dynamics::Model<double>& model, int k) {
+  return c.moves_with[k] && !dynamics::isWorldTranslation(model, k);
+}
+
+// Whether ∂²/∂q_i∂q_j of a point-on-plane pair's gap or plane coordinates can be non-zero (i, j
+// velocity coordinates): both move the pair and one turns it; a world translation pairs only
+// with the coordinates that turn a body's plane (for a world plane the gap is linear in the
+// translations).
+inline bool gapPair(const ContactPair& c, const dynamics::Model<double>& model, int i, int j) {
+  if (!c.moves_with[i] || !c.moves_with[j]) return false;
+  const bool ti = turnsWith(c, model, i), tj = turnsWith(c, model, j);
+  return (ti && tj) || (c.body_b >= 0 && (ti || tj));
+}
+
 // Gap variables: y_c − gap_c(q) = 0 for every contact at one point (the gaps are variables so
 // that non-penetration y ≥ 0 is a bound and (9b), (10) are products of variables).
 // Inputs: q (n), y (one per contact).
@@ -166,16 +225,29 @@ struct GapDefinition {
   std::vector<int> pairs;
   int inputs() const { return models->model<double>().nv() + outputs(); }
   int outputs() const { return static_cast<int>(pairs.size()); }
-  // q, of the coordinates some point-on-plane contact moves with; affine in y.
+  // q, of the coordinates some point-on-plane contact turns with (turnsWith): affine in the world
+  // translations (and their pairs with the others go to the latter's sweeps), and in y.
   bool nonlinear(int i) const {
+    if (i >= models->model<double>().nv()) return false;
+    for (int c : pairs)
+      if (turnsWith((*contacts)[c], models->model<double>(), i)) return true;
+    return false;
+  }
+  bool pairByAd(int i, int j) const {  // y enters with coefficient 1
+    const int n = models->model<double>().nv();
+    if (i >= n || j >= n) return false;
+    for (int c : pairs)
+      if (gapPair((*contacts)[c], models->model<double>(), i, j)) return true;
+    return false;
+  }
+  // The Jacobian by AD for the q some contact moves with; the others' columns are zero, y's the
+  // identity.
+  bool columnByAd(int i) const {
     if (i >= models->model<double>().nv()) return false;
     for (int c : pairs)
       if ((*contacts)[c].moves_with[i]) return true;
     return false;
   }
-  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }  // y enters with coefficient 1
-  // The Jacobian by AD for those q only; the others' columns are zero, y's the identity.
-  bool columnByAd(int i) const { return nonlinear(i); }
   void jacobianColumns(const double*, double* J) const {
     const int n = models->model<double>().nv(), m = outputs();
     for (int i = 0; i < n + m; ++i)
@@ -201,10 +273,11 @@ struct PlaneCoordinate {
   int axis = 0;
   int inputs() const { return models->model<double>().nv(); }
   int outputs() const { return 1; }
-  // Of q, only the coordinates the contact moves with: the others' columns are zero.
-  bool nonlinear(int i) const { return contact->moves_with[i]; }
-  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }
-  bool columnByAd(int i) const { return nonlinear(i); }
+  // Of q, only the coordinates the contact moves with: the others' columns are zero. Affine in
+  // the world translations, like the gap (gapPair).
+  bool nonlinear(int i) const { return turnsWith(*contact, models->model<double>(), i); }
+  bool pairByAd(int i, int j) const { return gapPair(*contact, models->model<double>(), i, j); }
+  bool columnByAd(int i) const { return contact->moves_with[i]; }
   void jacobianColumns(const double*, double* J) const {
     for (int i = 0; i < inputs(); ++i)
       if (!columnByAd(i)) J[i] = 0.0;
@@ -230,11 +303,16 @@ struct FreePointOffset {
   int m() const { return contact->freeAxes(); }
   int inputs() const { return models->model<double>().nv() + 3 * m(); }
   int outputs() const { return m(); }
-  // q, of the coordinates the contact moves with; s, d⁺, d⁻ enter with coefficients ±1.
-  bool nonlinear(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
-  bool pairByAd(int i, int j) const { return nonlinear(i) && nonlinear(j); }
-  // The Jacobian by AD for those q only: the other q's columns are zero, s's −1, d⁺'s −1, d⁻'s +1.
-  bool columnByAd(int i) const { return nonlinear(i); }
+  // q, of the coordinates the contact turns with (affine in the world translations, as the gap:
+  // gapPair); s, d⁺, d⁻ enter with coefficients ±1.
+  bool nonlinear(int i) const { return i < models->model<double>().nv() && turnsWith(*contact, models->model<double>(), i); }
+  bool pairByAd(int i, int j) const {
+    const int n = models->model<double>().nv();
+    return i < n && j < n && gapPair(*contact, models->model<double>(), i, j);
+  }
+  // The Jacobian by AD for the q the contact moves with: the other q's columns are zero, s's −1,
+  // d⁺'s −1, d⁻'s +1.
+  bool columnByAd(int i) const { return i < models->model<double>().nv() && contact->moves_with[i]; }
   void jacobianColumns(const double*, double* J) const {
     const int n = models->model<double>().nv(), k = m();
     for (int i = 0; i < n + 3 * k; ++i)
@@ -270,21 +348,29 @@ struct RestitutionBalance {
   int inputs() const { return 2 * sides() * models->model<double>().nv() + 2; }
   int outputs() const { return 1; }
   // ẏ = nᵀ J(q) q̇ (contact::normalVelocity) is linear in q̇ for fixed q: only the q's are nonlinear.
-  // Of those, the coordinates the contact moves with (ContactPair::moves_with): F has no others.
-  bool nonlinear(int i) const {
+  // Of those, the coordinates the Jacobian depends on (ContactPair::jacobian_with): F has no
+  // others. (A world translation among them moves the point against B's rotation: F is bilinear
+  // in it and B's rates, so it is not linear with them.)
+  bool isQ(int i) const {
     const int n = models->model<double>().nv();
-    return (i < n || (before && i >= 2 * n && i < 3 * n)) && contact->moves_with[i % n];
+    return i < n || (before && i >= 2 * n && i < 3 * n);
   }
+  bool nonlinear(int i) const { return isQ(i) && contact->jacobian_with[i % models->model<double>().nv()]; }
+  bool turns(int i) const { return turnsWith(*contact, models->model<double>(), i % models->model<double>().nv()); }
   // The two sides do not mix and a⁺, a⁻ enter with constant coefficients: the pairs within
-  // (q, q̇) after and within (q, q̇) before, of coordinates the contact moves with.
+  // (q, q̇) after and within (q, q̇) before, of a q the Jacobian depends on
+  // (ContactPair::jacobian_with) with another such q, one of them not a world translation, or
+  // with a q̇ the contact moves with.
   bool pairByAd(int i, int j) const {  // i ≥ j
     const int n = models->model<double>().nv();
     const bool side = (j < n && i < 2 * n) || (before && j >= 2 * n && j < 3 * n && i < 4 * n);
-    return side && contact->moves_with[i % n] && contact->moves_with[j % n];
+    if (!side || !contact->jacobian_with[j % n]) return false;
+    if (!isQ(i)) return contact->moves_with[i % n];
+    return contact->jacobian_with[i % n] && (turns(i) || turns(j));  // J is affine in the translations jointly
   }
-  // The Jacobian by AD for the q's it declares nonlinear; q̇'s columns are −nᵀJ(q) (and −e nᵀJ(q⁻)),
-  // a⁺'s and a⁻'s ±1, the other q's zero (jacobianColumns, functions.cpp).
-  bool columnByAd(int i) const { return nonlinear(i); }
+  // The Jacobian by AD for the q's the Jacobian depends on; q̇'s columns are −nᵀJ(q) (and
+  // −e nᵀJ(q⁻)), a⁺'s and a⁻'s ±1, the other q's zero (jacobianColumns, functions.cpp).
+  bool columnByAd(int i) const { return isQ(i) && contact->jacobian_with[i % models->model<double>().nv()]; }
   void jacobianColumns(const double* x, double* J) const;
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -315,22 +401,33 @@ struct SlipSlack {
   FrictionForm friction = FrictionForm::Activation;
   int inputs() const { return 2 * models->model<double>().nv() + contact->freeAxes() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
-  // q (v_t = J(q) q̇ − v_surface), of the coordinates the contact moves with: F has no others;
-  // a free point's s (B's velocity at p + Σ t_i s_i, times q̇ and the directions of q).
+  // q (v_t = J(q) q̇ − v_surface), of the coordinates the Jacobian depends on
+  // (ContactPair::jacobian_with): F has no others; a free point's s (B's velocity at
+  // p + Σ t_i s_i, times q̇ and the directions of q).
+  bool isS(int i) const {
+    const int n = models->model<double>().nv();
+    return i >= 2 * n && i < 2 * n + contact->freeAxes();
+  }
   bool nonlinear(int i) const {
     const int n = models->model<double>().nv();
-    return (i < n && contact->moves_with[i]) || (i >= 2 * n && i < 2 * n + contact->freeAxes());
+    return (i < n && contact->jacobian_with[i]) || isS(i);
   }
-  // γ and ψ enter with constant coefficients: the pairs within (q, q̇) the contact moves with, and
-  // s with those (it enters affinely: no (s, s) pairs).
+  // γ and ψ enter with constant coefficients: the pairs of a q the Jacobian depends on
+  // (ContactPair::jacobian_with) with another such q, one of them not a world translation, or
+  // with a q̇ the contact moves with, and s with those q and q̇ (it enters affinely: no (s, s)).
   bool pairByAd(int i, int j) const {
     const int n = models->model<double>().nv();
-    if (i >= 2 * n && i < 2 * n + contact->freeAxes()) return j < 2 * n && contact->moves_with[j % n];
-    return j < n && i < 2 * n && contact->moves_with[i % n] && contact->moves_with[j];
+    if (isS(i)) return j < 2 * n && contact->jacobian_with[j % n];
+    if (j >= n || i >= 2 * n || !contact->jacobian_with[j]) return false;
+    if (i >= n) return contact->moves_with[i - n];
+    const auto& model = models->model<double>();  // J is affine in the world translations jointly
+    return contact->jacobian_with[i] && (turnsWith(*contact, model, i) || turnsWith(*contact, model, j));
   }
-  // The Jacobian by AD for the inputs it declares nonlinear; q̇'s columns are ±d_iᵀ J(q), γ's −1,
-  // ψ's the identity, the other q's zero (jacobianColumns, functions.cpp).
-  bool columnByAd(int i) const { return nonlinear(i); }
+  // The Jacobian by AD for the q's the Jacobian depends on and s; q̇'s columns are ±d_iᵀ J(q), γ's
+  // −1, ψ's the identity, the other q's zero (jacobianColumns, functions.cpp).
+  bool columnByAd(int i) const {
+    return (i < models->model<double>().nv() && contact->jacobian_with[i]) || isS(i);
+  }
   void jacobianColumns(const double* x, double* J) const;
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -357,6 +454,7 @@ struct Integration {
   bool nonlinear(int i) const { return i == 2; }  // h (times the rates)
   // The one nonzero block, ∂²(λ y)/∂h∂ẋ_j = −λ c_j, written directly: no nested duals.
   bool pairByAd(int, int) const { return false; }
+  bool pairSupplied(int i, int j) const { return j == 2 && i >= 3; }
   void addHessian(const double*, const double* lambda, double* H) const {
     const int n = inputs();
     for (int j = 0; j < c.size(); ++j) H[(3 + j) + 2 * n] -= lambda[0] * c[j];
@@ -376,6 +474,8 @@ struct Effort {
   int nu = 0;
   int inputs() const { return 1 + static_cast<int>(b.size()) * nu; }
   int outputs() const { return 1; }
+  // ∂²/∂u² = 2 h b_j on the diagonal, ∂²/∂h∂u = 2 b_j u; the rest is zero.
+  bool pairByAd(int i, int j) const { return i > 0 && (i == j || j == 0); }  // i ≥ j
   template <class S>
   void operator()(const S* x, S* y) const {
     S sum(0);
@@ -431,6 +531,7 @@ class ScaledFunction final : public LocalFunction {
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 64, 1> l = ConstMap<double>(lambda, outputs()) * w_;
     f_->hessian(x, l.data(), H);
   }
+  bool hessianPair(int i, int j) const override { return f_->hessianPair(i, j); }
 
  private:
   std::shared_ptr<const LocalFunction> f_;
@@ -458,6 +559,10 @@ class ComplementarityProduct final : public LocalFunction {
     const int n = inputs(), na = static_cast<int>(a_.size());
     for (int j = 0; j < na; ++j)
       for (int i = 0; i < b_.size(); ++i) H[(na + i) + j * n] = lambda[0] * a_[j] * b_[i];
+  }
+  bool hessianPair(int i, int j) const override {  // i ≥ j: a b-input with an a-input
+    const int na = static_cast<int>(a_.size());
+    return j < na && i >= na && i < na + b_.size();
   }
 
  private:

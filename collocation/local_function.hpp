@@ -47,6 +47,9 @@ class LocalFunction {
   // H: inputs × inputs, column-major, lower triangle filled (H[i + j·n] for i ≥ j) with
   // ∂²(λᵀF)/∂x_i∂x_j; the upper triangle is left untouched.
   virtual void hessian(const double* x, const double* lambda, double* H) const = 0;
+  // Whether ∂²(λᵀF)/∂x_i∂x_j (i ≥ j) can be non-zero at some x and λ: the pairs of this block
+  // the NLP's Hessian structure holds (Nlp). Every pair unless the function says otherwise.
+  virtual bool hessianPair(int i, int j) const { return true; }
 };
 
 // A functor may say which of its inputs enter linearly: `bool nonlinear(int i) const` false for
@@ -62,8 +65,10 @@ concept DeclaresLinearInputs = requires(const F& f) {
 // const` (i ≥ j) false for them. They are zero unless the functor computes them itself, more
 // cheaply than nested duals can: `void addHessian(const double* x, const double* lambda,
 // double* H) const` adds ∂²(λᵀF)/∂x_i∂x_j of those pairs into H's lower triangle, which starts
-// at zero outside the sweeps' pairs. An input with none of its pairs left to the sweeps has no
-// outer direction.
+// at zero outside the sweeps' pairs, and `bool pairSupplied(int i, int j) const` (i ≥ j) names
+// them. An input with none of its pairs left to the sweeps has no outer direction. The pairs
+// neither computed nor supplied are structurally zero: the NLP's Hessian leaves them out
+// (LocalFunction::hessianPair).
 template <class F>
 concept DeclaresHessianPairs = requires(const F& f) {
   { f.pairByAd(0, 0) } -> std::convertible_to<bool>;
@@ -71,6 +76,7 @@ concept DeclaresHessianPairs = requires(const F& f) {
 template <class F>
 concept SuppliesHessianPairs = DeclaresHessianPairs<F> && requires(const F& f, const double* x, double* H) {
   f.addHessian(x, x, H);
+  { f.pairSupplied(0, 0) } -> std::convertible_to<bool>;
 };
 
 // A functor may form some columns of its Jacobian itself: `bool columnByAd(int i) const` false for
@@ -102,6 +108,9 @@ class AdFunction final : public LocalFunction {
   void value(const double* x, double* y) const override;
   void jacobian(const double* x, double* J) const override;
   void hessian(const double* x, const double* lambda, double* H) const override;
+  bool hessianPair(int i, int j) const override {
+    return structural_[static_cast<std::size_t>(std::max(i, j) + std::min(i, j) * n_)];
+  }
 
   // The Hessian's forward-over-forward evaluations: one per nonlinear input with pairs left to
   // the sweeps, while its row of pairs fits a chunk (tests).
@@ -127,6 +136,7 @@ class AdFunction final : public LocalFunction {
   bool small_ = false;
   std::vector<Sweep> sweeps_;
   std::vector<int> linear_;  // the inputs in L (their pairs are zero in H)
+  std::vector<bool> structural_;  // per pair (i ≥ j, at i + j·n): swept or supplied, so maybe non-zero
   std::vector<int> ad_columns_;  // the Jacobian's columns by AD (all but those F supplies)
   mutable Eigen::Matrix<Dual, Eigen::Dynamic, 1> xd_, yd_;
   mutable Eigen::Matrix<Dual2, Eigen::Dynamic, 1> x2_, y2_;
@@ -187,6 +197,15 @@ AdFunction<F>::AdFunction(F f)
       sweeps_.push_back(sweep);
     }
   small_ = std::all_of(sweeps_.begin(), sweeps_.end(), [](const Sweep& s) { return s.count <= kSmallChunk; });
+  // The pairs the sweeps compute (a nonlinear input's; within L they are zero) and those the
+  // functor supplies.
+  structural_.assign(static_cast<std::size_t>(n_) * n_, false);
+  for (int j = 0; j < n_; ++j)
+    for (int i = j; i < n_; ++i) {
+      bool maybe = (nonlinear[i] || nonlinear[j]) && by_ad(i, j);
+      if constexpr (SuppliesHessianPairs<F>) maybe = maybe || f_.pairSupplied(i, j);
+      structural_[static_cast<std::size_t>(i + j * n_)] = maybe;
+    }
 }
 
 template <class F>

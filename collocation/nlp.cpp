@@ -61,7 +61,8 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
   for (int& r : row_)
     if (r >= 0) r = rows_++;
   g_full_.resize(t.constraints());
-  // Sparsity: dense local blocks mapped to global entries; duplicates share an entry.
+  // Sparsity: dense local Jacobian blocks and the pairs of the local Hessians that may be non-zero
+  // (LocalFunction::hessianPair) mapped to global entries; duplicates share an entry.
   std::map<std::pair<int, int>, int> jac, hess;
   std::size_t max_in = 1, max_out = 1;
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
@@ -82,6 +83,10 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     if (hess_first_.back() < 0) continue;
     for (int j = 0; j < n; ++j)
       for (int i = j; i < n; ++i) {
+        if (!b.f->hessianPair(i, j)) {  // structurally zero: not in Ipopt's structure
+          hess_pos_.push_back(-1);
+          continue;
+        }
         const int a = b.vars[i], c = b.vars[j];
         const auto key = std::make_pair(std::max(a, c), std::min(a, c));
         auto [it, added] = hess.try_emplace(key, static_cast<int>(hess.size()));
@@ -264,7 +269,8 @@ bool Nlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_f
     const int* pos = hess_pos_.data() + hess_first_[bi];
     int k = 0;
     for (int j = 0; j < n; ++j)
-      for (int i = j; i < n; ++i) values[pos[k++]] += local_d_[i + j * n];
+      for (int i = j; i < n; ++i, ++k)
+        if (pos[k] >= 0) values[pos[k]] += local_d_[i + j * n];
   }
   return std::all_of(values, values + nele_hess, [](double v) { return std::isfinite(v); });  // as eval_jac_g
 }

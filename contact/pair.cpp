@@ -1,5 +1,7 @@
 #include "contact/pair.hpp"
 
+#include "dynamics/world_translation.hpp"
+
 namespace saltus::contact {
 namespace {
 
@@ -39,9 +41,16 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.directions_B = c.friction > 0 ? scene::coneDirections(p.tangents_B, c.directions) : Eigen::Matrix3Xd(3, 0);
     p.restitution = c.restitution;
     p.friction = c.friction;
+    std::vector<bool> path_a(scene.model.nv(), false), path_b(scene.model.nv(), false);
+    markPath(scene.model, p.body_a, path_a);
+    markPath(scene.model, p.body_b, path_b);
     p.moves_with.assign(scene.model.nv(), false);
-    markPath(scene.model, p.body_a, p.moves_with);
-    markPath(scene.model, p.body_b, p.moves_with);
+    p.jacobian_with.assign(scene.model.nv(), false);
+    for (int k = 0; k < scene.model.nv(); ++k) {
+      p.moves_with[k] = path_a[k] || path_b[k];
+      const bool shifts_both = p.body_b < 0 || (path_a[k] && path_b[k]);  // A against a world plane
+      p.jacobian_with[k] = p.moves_with[k] && !(dynamics::isWorldTranslation(scene.model, k) && shifts_both);
+    }
     pairs.push_back(std::move(p));
   }
   for (const scene::LimitStop& l : scene.limits) {
@@ -56,6 +65,7 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.restitution = l.restitution;
     p.moves_with.assign(scene.model.nv(), false);
     p.moves_with[l.coordinate] = true;
+    p.jacobian_with.assign(scene.model.nv(), false);
     pairs.push_back(std::move(p));
   }
   return pairs;

@@ -58,6 +58,13 @@ struct ContactPair {
   // body B; a stop's own coordinate. The others are structurally absent (the collocation's
   // Hessians skip them).
   std::vector<bool> moves_with;
+  // Of those, the ones its relative Jacobian J(q) (so its relative velocity at given rates) and
+  // its contact frame can depend on: moves_with less the world translations (dynamics/world_translation.hpp) that
+  // move A against a world plane or move both A and B; a world translation that moves only one
+  // of A and B moves the contact point against the other's rotation axes. J is affine in the
+  // world translations jointly, the contact frame does not depend on them, and the gap and the
+  // plane coordinates are affine in them. A stop's names none: its Jacobian is constant.
+  std::vector<bool> jacobian_with;
 
   bool isStop() const { return kind == PairKind::JointStop; }
   bool freePoint() const { return !free_axes.empty(); }

@@ -108,6 +108,16 @@ bool compareIfIs(const LocalFunction& f, const Eigen::VectorXd& x, const Eigen::
   const AdFunction<AllNonlinear<F>> full(AllNonlinear<F>{ad->functor()});
   const Eigen::MatrixXd H = lowerHessian(*ad, x, lambda), Hfull = lowerHessian(full, x, lambda);
   EXPECT_LT((H - Hfull).cwiseAbs().maxCoeff(), 1e-12 * (1 + Hfull.cwiseAbs().maxCoeff())) << name;
+  // The pairs left out of the NLP's Hessian structure (hessianPair false) are zero in the
+  // all-nonlinear Hessian too; the structure leaves some out.
+  int left_out = 0;
+  for (int j = 0; j < f.inputs(); ++j)
+    for (int i = j; i < f.inputs(); ++i) {
+      if (f.hessianPair(i, j)) continue;
+      ++left_out;
+      EXPECT_LE(std::abs(Hfull(i, j)), 1e-12 * (1 + Hfull.cwiseAbs().maxCoeff())) << name << " (" << i << ", " << j << ")";
+    }
+  EXPECT_GT(left_out, 0) << name;
   EXPECT_LE(ad->hessianSweeps(), full.hessianSweeps()) << name;
   // The Jacobian: the columns a functor forms itself (the EOM's M(q), −B, −Jᵀ ∂f/∂r) against AD
   // of every column. Every entry is overwritten.
@@ -190,9 +200,14 @@ TEST(AdFunction, DeclaredLinearInputsLegged) {
     std::erase_if(p.bounds, [&](const PointBound& b) { return b.element >= 0 && b.element < p.N - 1; });
     remesh(p, 2, 2);
     checkDeclaredLinearity(p, Method::Impulsive, 5);  // eom, gap, restitution (feet), slip, integration
-    // The EOM's Jacobian by AD over q and q̇ only (q at a jump): ⌈2n/8⌉ and ⌈n/8⌉ chunks.
+    // The EOM's Jacobian by AD over q and q̇ only (q at a jump), less the world translations'
+    // (the base's x and z, or x, y and z): ⌈2n'/8⌉ and ⌈n'/8⌉ chunks of the n' others.
     const Transcription t(p, Method::Impulsive);
-    const int n = t.models().model<double>().nv(), jump = (n + kChunk - 1) / kChunk, point = (2 * n + kChunk - 1) / kChunk;
+    const auto& model = t.models().model<double>();
+    int n = 0;
+    for (int k = 0; k < model.nv(); ++k) n += !dynamics::isWorldTranslation(model, k);
+    EXPECT_EQ(model.nv() - n, model.base == dynamics::BaseType::Free ? 3 : 2) << name;
+    const int jump = (n + kChunk - 1) / kChunk, point = (2 * n + kChunk - 1) / kChunk;
     std::set<int> sweeps;
     for (const Block& b : t.blocks())
       if (const auto* eom = dynamic_cast<const AdFunction<EquationOfMotion>*>(b.f.get())) {
@@ -212,6 +227,7 @@ struct Supplied {
   int outputs() const { return 1; }
   bool nonlinear(int i) const { return i < 3; }
   bool pairByAd(int i, int) const { return i < 2; }
+  bool pairSupplied(int i, int j) const { return (i == 2 && j == 0) || (i == 3 && j == 2); }
   void addHessian(const double*, const double* lambda, double* H) const {
     H[2 + 0 * 4] += lambda[0];
     H[3 + 2 * 4] += 5 * lambda[0];
@@ -242,6 +258,33 @@ TEST(AdFunction, SuppliedPairsAndSmallChunks) {
   EXPECT_EQ(raw(2, 2), 0.0);
   EXPECT_EQ(raw(3, 0), 0.0);
   EXPECT_EQ(raw(0, 3), 7.0);
+  // The Hessian's structure: the swept pairs and the supplied ones, no others.
+  for (int j = 0; j < 4; ++j)
+    for (int i = j; i < 4; ++i)
+      EXPECT_EQ(f.hessianPair(i, j), i < 2 || (i == 2 && j == 0) || (i == 3 && j == 2)) << i << ", " << j;
+}
+
+// The effort h Σ_j b_j Σ_i u_i[j]²: its declared pairs (the diagonal of u, and h with each u)
+// against the all-nonlinear Hessian, with one sweep for each u instead of one per input pair row.
+TEST(AdFunction, EffortPairs) {
+  const Effort effort{Eigen::Vector3d(0.2, 0.5, 0.3), 2};
+  const AdFunction<Effort> f(effort);
+  const AdFunction<AllNonlinear<Effort>> full(AllNonlinear<Effort>{effort});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Eigen::VectorXd x(f.inputs());
+  for (int i = 0; i < x.size(); ++i) x[i] = U(rng);
+  const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(1, 0.8);
+  const Eigen::MatrixXd H = lowerHessian(f, x, lambda);
+  EXPECT_LT((H - lowerHessian(full, x, lambda)).cwiseAbs().maxCoeff(), 1e-14);
+  for (int i = 1; i < f.inputs(); ++i) {
+    const double b = effort.b[(i - 1) / effort.nu];
+    EXPECT_NEAR(H(i, i), 2 * lambda[0] * x[0] * b, 1e-14);
+    EXPECT_NEAR(H(i, 0), 2 * lambda[0] * b * x[i], 1e-14);
+  }
+  for (int j = 0; j < f.inputs(); ++j)
+    for (int i = j; i < f.inputs(); ++i) EXPECT_EQ(f.hessianPair(i, j), i > 0 && (i == j || j == 0)) << i << ", " << j;
+  EXPECT_LT(f.hessianSweeps(), full.hessianSweeps());
 }
 
 // The pendulum's blocks: the EOM's nested duals only over q (one sweep per coordinate, chunks of

@@ -252,8 +252,10 @@ TEST(Nlp, TheTaskStageBoundsTheProductsAndWeighsThemInTheCost) {
 
 // Derivatives at a point that is not finite are an evaluation error (false), not values for
 // MUMPS; at a finite point they are evaluated as usual.
+// On the pendulum, whose Jacobian and Hessian depend on the angles (a point mass's would not:
+// its one coordinate is a world translation, which the Hessian does not read).
 TEST(Nlp, DerivativesThatAreNotFiniteAreAnEvaluationError) {
-  const Problem p = loadProblem("point_mass_drop");
+  const Problem p = loadProblem("pendulum_conveyor");
   const Transcription t(p, Method::Impulsive);
   Nlp nlp(t, Stage::Feasibility, t.nullSeed());
   Ipopt::Index n = 0, m = 0, nnz_j = 0, nnz_h = 0;

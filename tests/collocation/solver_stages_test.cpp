@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "collocation/problem_file.hpp"
@@ -91,14 +92,30 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_EQ(tightened.stages[1].status, "Solve_Succeeded");
 
   // With a task cost the tightened point is where the task stage starts; without tightening
-  // it would start off the constraints (its ε bounded below the near miss's products). With the
-  // variable x_m the seed's random draws differ: random seed 1 ends the feasibility stage at the
-  // same near miss (1.5e-4).
+  // it would start off the constraints (its ε bounded below the near miss's products). The task
+  // problem starts from the near miss itself (a local minimum of the penalty, where its
+  // feasibility stage ends again), carried over by variable name, with x_m the largest height in
+  // it: its own seeding would draw other random numbers, and whether their feasibility stage
+  // ends just above the tolerance or just under it depends on rounding.
   p.cost.max_coordinate = 0;
   p.cost.max_weight = 1.0;
-  p.random_seed = 1;
   const Transcription task(p, Method::Impulsive);
-  const SolveReport c = solve(task, makeSeeding(task).seed, SolveOptions{});
+  std::map<std::string, int> index;
+  const auto names = t.variableNames();
+  for (int i = 0; i < t.variables(); ++i) index[names[i]] = i;
+  ASSERT_EQ(index.size(), names.size());
+  Eigen::VectorXd task_seed = Eigen::VectorXd::Zero(task.variables());
+  const auto task_names = task.variableNames();
+  for (int i = 0; i < task.variables(); ++i) {
+    const auto it = index.find(task_names[i]);
+    if (it != index.end()) {
+      task_seed[i] = near.x[it->second];
+    } else {
+      ASSERT_EQ(task_names[i], "x_max");
+    }
+  }
+  task.tightenMaxVariable(task_seed);
+  const SolveReport c = solve(task, [&](int) { return Seed{task_seed, true}; }, SolveOptions{});
   ASSERT_EQ(c.stages.size(), 3u);
   EXPECT_EQ(c.stages[0].name, "feasibility");
   EXPECT_GT(c.stages[0].largest_product, p.complementarity_tolerance);

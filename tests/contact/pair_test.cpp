@@ -8,6 +8,7 @@
 
 #include "contact/kinematics.hpp"
 #include "dynamics/kinematics.hpp"
+#include "dynamics/world_translation.hpp"
 
 #include "scene/scenario.hpp"
 #include "saltus/build_paths.hpp"
@@ -43,6 +44,84 @@ TEST(ContactPairs, ContactsThenStopsWithTheirPlanesAndSigns) {
   EXPECT_EQ(pairs[1].restitution, 0.2);
   EXPECT_EQ(pairs[2].sign, -1.0);
   EXPECT_EQ(pairs[2].k(), 0);
+}
+
+// jacobian_with: moves_with less the world translations that shift the contact point and the
+// plane together (dynamics/world_translation.hpp). Shifting such a coordinate leaves the relative
+// Jacobian as it was; shifting any world translation leaves the plane's normal as it was and
+// changes the Jacobian, the gap and the plane coordinates linearly (second differences of zero). On the cart of the conveyor, the boxes'
+// bases, HyQ's base and the skateboard's rider and board, whose feet stand on the deck: a plane
+// on another tree, against which the rider's translations move the feet.
+TEST(ContactPairs, JacobianWithLeavesOutTheWorldTranslations) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int translations = 0, shifted = 0, levers = 0, depending = 0, changed = 0, lever_moved = 0;
+  for (const char* name : {"pendulum_conveyor", "box_stack", "hyq_drop", "skateboard_rider"}) {
+    const scene::Scene s = scene::loadScene(name);
+    const auto& model = s.model;
+    dynamics::Data<double> data(model);
+    const std::vector<ContactPair> pairs = contactPairs(s);
+    Eigen::VectorXd q(model.nq());
+    for (int i = 0; i < q.size(); ++i) q[i] = U(rng);
+    if (model.nq() != model.nv()) q.segment(3, 4).normalize();  // a quaternion base
+    struct Look {
+      dynamics::Mat3X<double> J;
+      Eigen::Vector3d normal;
+      double gap;
+      Eigen::Vector2d s;
+    };
+    auto look = [&](const ContactPair& pair, const Eigen::VectorXd& at) {
+      dynamics::forwardKinematics(model, data, at);
+      Look l{dynamics::Mat3X<double>(3, model.nv()), planeNormal(pair, data), gap(pair, data, at.data()),
+             planeCoordinates(pair, data)};
+      relativeJacobian(model, data, pair, l.J);
+      return l;
+    };
+    for (const ContactPair& pair : pairs) {
+      ASSERT_EQ(static_cast<int>(pair.jacobian_with.size()), model.nv()) << name << " " << pair.name;
+      if (pair.isStop()) {
+        for (int k = 0; k < model.nv(); ++k) EXPECT_FALSE(pair.jacobian_with[k]) << name << " " << pair.name;
+        continue;
+      }
+      const Look l0 = look(pair, q);
+      for (int k = 0; k < model.nv(); ++k) {
+        const std::string what = std::string(name) + " " + pair.name + " " + std::to_string(k);
+        EXPECT_TRUE(!pair.jacobian_with[k] || pair.moves_with[k]) << what;
+        if (!pair.moves_with[k]) continue;
+        if (model.nq() != model.nv() && k >= 3 && k < 6) continue;  // a quaternion's rotation: not by a shift
+        const double d = 0.3;
+        Eigen::VectorXd q1 = q, q2 = q;
+        q1[model.positionOf(k)] += d;
+        q2[model.positionOf(k)] += 2 * d;
+        const Look l1 = look(pair, q1), l2 = look(pair, q2);
+        const double scale = 1 + l0.J.norm();
+        if (pair.jacobian_with[k]) {
+          ++depending;
+          const bool moved = (l1.J - l0.J).norm() > 1e-6 * scale || (l1.normal - l0.normal).norm() > 1e-6;
+          changed += moved;
+          lever_moved += moved && dynamics::isWorldTranslation(model, k);
+        } else {
+          ++shifted;
+          EXPECT_LT((l1.J - l0.J).norm(), 1e-12 * scale) << what;
+        }
+        if (!dynamics::isWorldTranslation(model, k)) continue;
+        ++translations;
+        levers += pair.jacobian_with[k];
+        EXPECT_LT((l2.J - 2 * l1.J + l0.J).norm(), 1e-12 * scale) << what;
+        EXPECT_LT((l1.normal - l0.normal).norm(), 1e-14) << what;
+        EXPECT_NEAR(l2.gap - 2 * l1.gap + l0.gap, 0.0, 1e-12) << what;
+        if (pair.body_b >= 0) EXPECT_LT((l2.s - 2 * l1.s + l0.s).norm(), 1e-12) << what;
+      }
+    }
+  }
+  EXPECT_GT(shifted, 0);
+  EXPECT_GT(levers, 0);  // the rider's and the board's translations for the feet on the deck
+  EXPECT_GT(translations, levers);
+  // Most coordinates jacobian_with names change the Jacobian or the normal here (it may name more
+  // than do: the board's angle turns the deck's normal but not the feet's Jacobian in world
+  // axes, and a box that only slides up and down has no rotation for a translation to lever).
+  EXPECT_GT(changed, depending / 2);
+  EXPECT_GT(lever_moved, 0);  // the rider's x moves the feet against the board's rotation axis
 }
 
 }  // namespace

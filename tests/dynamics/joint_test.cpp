@@ -19,42 +19,6 @@
 namespace saltus::dynamics {
 namespace {
 
-// The random tree of randomTreeBuilder(rng, n) hung from the world through the base's
-// one-coordinate joints (prismatic x, y, z, revolute z, y, x for Free; prismatic x, z, revolute y
-// for Planar), as a fixed-base model.
-Model<double> explicitChain(ModelBuilder b, BaseType base) {
-  b.addLink("world");
-  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
-  struct Axis {
-    const char* name;
-    LinkJointType type;
-    Eigen::Vector3d axis;
-  };
-  std::vector<Axis> axes;
-  if (base == BaseType::Free)
-    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_y", LinkJointType::Prismatic, ey},
-            {"base_z", LinkJointType::Prismatic, ez}, {"base_yaw", LinkJointType::Continuous, ez},
-            {"base_pitch", LinkJointType::Continuous, ey}, {"base_roll", LinkJointType::Continuous, ex}};
-  else
-    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_z", LinkJointType::Prismatic, ez},
-            {"base_theta", LinkJointType::Continuous, ey}};
-  std::string parent = "world";
-  for (std::size_t k = 0; k < axes.size(); ++k) {
-    const bool last = k + 1 == axes.size();
-    const std::string child = last ? "link0" : std::string("v_") + axes[k].name;
-    if (!last) b.addLink(child);
-    JointSpec j;
-    j.name = axes[k].name;
-    j.type = axes[k].type;
-    j.parent = parent;
-    j.child = child;
-    j.axis = axes[k].axis;
-    b.addJoint(j);
-    parent = child;
-  }
-  return b.build(BaseType::Fixed);
-}
-
 void expectNear(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double tol, const std::string& what) {
   EXPECT_LT((a - b).norm(), tol * (1 + b.norm())) << what;
 }
@@ -65,7 +29,7 @@ TEST(Joint, BaseJointEqualsChainOfOneCoordinateJoints) {
       std::mt19937 rng(900 + k);
       const ModelBuilder tree = testing::randomTreeBuilder(rng, 2 + 2 * k);
       const Model<double> joint = tree.build(base);
-      const Model<double> chain = explicitChain(tree, base);
+      const Model<double> chain = testing::explicitChain(tree, base);
       const int n = joint.nv();
       ASSERT_EQ(chain.nv(), n);
       ASSERT_EQ(joint.coordinate_name, chain.coordinate_name);

@@ -70,6 +70,43 @@ inline dynamics::ModelBuilder randomTreeBuilder(std::mt19937& rng, int n) {
   });
 }
 
+// The random tree of randomTreeBuilder(rng, n) hung from the world through the base's
+// one-coordinate joints (prismatic x, y, z, revolute z, y, x for Free; prismatic x, z, revolute y
+// for Planar), as a fixed-base model.
+inline dynamics::Model<double> explicitChain(dynamics::ModelBuilder b, dynamics::BaseType base) {
+  using namespace dynamics;
+  b.addLink("world");
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  struct Axis {
+    const char* name;
+    LinkJointType type;
+    Eigen::Vector3d axis;
+  };
+  std::vector<Axis> axes;
+  if (base == BaseType::Free)
+    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_y", LinkJointType::Prismatic, ey},
+            {"base_z", LinkJointType::Prismatic, ez}, {"base_yaw", LinkJointType::Continuous, ez},
+            {"base_pitch", LinkJointType::Continuous, ey}, {"base_roll", LinkJointType::Continuous, ex}};
+  else
+    axes = {{"base_x", LinkJointType::Prismatic, ex}, {"base_z", LinkJointType::Prismatic, ez},
+            {"base_theta", LinkJointType::Continuous, ey}};
+  std::string parent = "world";
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const bool last = k + 1 == axes.size();
+    const std::string child = last ? "link0" : std::string("v_") + axes[k].name;
+    if (!last) b.addLink(child);
+    JointSpec j;
+    j.name = axes[k].name;
+    j.type = axes[k].type;
+    j.parent = parent;
+    j.child = child;
+    j.axis = axes[k].axis;
+    b.addJoint(j);
+    parent = child;
+  }
+  return b.build(BaseType::Fixed);
+}
+
 // One of the 24 rotations by multiples of π/2 about the coordinate axes (a signed permutation of
 // determinant +1), turned further by `off` radians about a random axis, as URDF rpy written to a
 // dozen digits give (dynamics/model.hpp, snapToSignedPermutation).
