@@ -146,6 +146,10 @@ class AdFunction final : public LocalFunction {
 template <class F>
 AdFunction<F>::AdFunction(F f)
     : f_(std::move(f)), n_(f_.inputs()), m_(f_.outputs()), xd_(n_), yd_(m_), x2_(n_), y2_(m_), x2s_(n_), y2s_(m_) {
+  // An addHessian without pairByAd and pairSupplied would never be called, and its pairs would
+  // be left out of the structure.
+  static_assert(!requires(const F& g, const double* x, double* H) { g.addHessian(x, x, H); } || SuppliesHessianPairs<F>,
+                "a functor with addHessian names the pairs it writes (pairSupplied) and those left to AD (pairByAd)");
   std::vector<bool> nonlinear(n_, true);
   if constexpr (DeclaresLinearInputs<F>)
     for (int i = 0; i < n_; ++i) nonlinear[i] = f_.nonlinear(i);

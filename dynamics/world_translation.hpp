@@ -6,7 +6,8 @@
 // the terms in its rate are the rate times ∂²c/∂q_i∂q_j − ∂²c/∂q_j∂q_i for the subtree's centre of
 // mass c, which is zero). Neither do the points' relative Jacobians, the planes' normals nor any
 // relative velocity, and a gap is affine in these coordinates: the collocation's Hessians and
-// Jacobians leave them out (contact::ContactPair::jacobian_with, collocation/functions.hpp).
+// Jacobians leave them out (contact::ContactPair::jacobian_with, collocation/equation_of_motion.hpp,
+// collocation/functions.hpp).
 #pragma once
 
 #include "dynamics/model.hpp"

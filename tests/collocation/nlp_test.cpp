@@ -117,6 +117,17 @@ TEST(NlpDerivatives, MonopodTurnImpulsive) { checkDerivatives(smallLegged("monop
 TEST(NlpDerivatives, MonopodTurnContinuous) { checkDerivatives(smallLegged("monopod_turn"), Method::Continuous); }
 TEST(NlpDerivatives, MonopodTurnFirstOrder) { checkDerivatives(smallLegged("monopod_turn", 1), Method::FirstOrder); }
 
+// The Ollie of the point-mass riders: each foot free along the deck, a contact between two trees
+// whose riders' translations move the foot against the turning deck (pairs a world plane does
+// not have), and the board's tail and wheels on the ground.
+TEST(NlpDerivatives, OllieSimpleImpulsive) {
+  Problem p = loadProblem("ollie_simple");
+  std::erase_if(p.bounds, [&](const PointBound& b) { return b.element >= 0 && b.element < p.N - 1; });
+  p.hints.clear();  // at [10, 0]: off a mesh of two elements
+  remesh(p, 2, 2);
+  checkDerivatives(p, Method::Impulsive);
+}
+
 // A point against a plane on a turning body: the contact frame's derivatives enter every
 // contact row (equations of motion, gap, slip, restitution).
 TEST(NlpDerivatives, BallOnPaddleImpulsive) { checkDerivatives(testing::ballOnPaddleProblem(0.4, 0.5), Method::Impulsive); }

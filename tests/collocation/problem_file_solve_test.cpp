@@ -13,18 +13,15 @@
 #include "saltus/build_paths.hpp"
 #include "scene/scenario.hpp"
 #include "tests/support/errors.hpp"
+#include "tests/support/problem_errors.hpp"
 
 // A namespace of its own: the unity build may join this file with the other problem-file tests.
 namespace saltus::collocation::problem_file_solve {
 namespace {
 
-const std::string kDataDir = std::string(SALTUS_SOURCE_DIR) + "/tests/data/problems/";
+const std::string& kDataDir = testing::kProblemDataDir;
 
-std::string expectError(const std::string& fixture, const std::string& key_path,
-                        const std::vector<std::string>& parts) {
-  const std::string path = kDataDir + fixture;
-  return testing::expectMarkedError<scene::ScenarioError>(path, [&] { loadProblem(path); }, key_path, parts);
-}
+using testing::expectProblemError;
 
 TEST(ProblemFileSolve, EveryKeyOfTheFullFixture) {
   const std::string path = kDataDir + "full.yaml";
@@ -58,39 +55,39 @@ TEST(ProblemFileSolve, EveryKeyOfTheFullFixture) {
 }
 
 TEST(ProblemFileSolve, UnknownHessian) {
-  expectError("bad_hessian.yaml", "solve.feasibility_hessian",
+  expectProblemError("bad_hessian.yaml", "solve.feasibility_hessian",
               {"unknown hessian 'limited_memory'", "did you mean 'limited-memory'", "expected one of: exact, limited-memory"});
 }
 TEST(ProblemFileSolve, NegativePenaltyIterations) {
-  expectError("bad_penalty_iterations.yaml", "solve.penalty_iterations",
+  expectProblemError("bad_penalty_iterations.yaml", "solve.penalty_iterations",
               {"expected a non-negative iteration count", "got -5"});
 }
 TEST(ProblemFileSolve, AMethodsOwnPenaltyKeys) {
-  expectError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",
+  expectProblemError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",
               {"expected a non-negative iteration count", "got -1"});
-  expectError("bad_method_solve_key.yaml", "solve.first-order.restarts",
+  expectProblemError("bad_method_solve_key.yaml", "solve.first-order.restarts",
               {"unknown key 'restarts'", "expected one of: penalty_iterations, task_penalty, penalty_weight"});
-  expectError("bad_method_penalty_weight.yaml", "solve.impulsive.penalty_weight",
+  expectProblemError("bad_method_penalty_weight.yaml", "solve.impulsive.penalty_weight",
               {"a weight must be non-negative", "got -10"});
 }
 TEST(ProblemFileSolve, SeedSolutionWithoutPath) {
-  expectError("seed_solution_missing.yaml", "solve.seed_solution", {"seed: solution needs seed_solution"});
+  expectProblemError("seed_solution_missing.yaml", "solve.seed_solution", {"seed: solution needs seed_solution"});
 }
 
 // Ipopt's options are checked against Ipopt's own registry when the file is read, not when the
 // solve starts; the two it has keys of its own for are refused with the key to use.
 TEST(ProblemFileSolve, AnIpoptOptionTheFileHasAKeyFor) {
-  expectError("bad_ipopt_owned.yaml", "ipopt.hessian_approximation", {"set this through solve.hessian instead"});
+  expectProblemError("bad_ipopt_owned.yaml", "ipopt.hessian_approximation", {"set this through solve.hessian instead"});
 }
 TEST(ProblemFileSolve, AnUnknownIpoptOption) {
-  expectError("bad_ipopt_unknown.yaml", "ipopt.mu_stratgy", {"unknown Ipopt option 'mu_stratgy'"});
+  expectProblemError("bad_ipopt_unknown.yaml", "ipopt.mu_stratgy", {"unknown Ipopt option 'mu_stratgy'"});
 }
 TEST(ProblemFileSolve, AnIpoptValueOfTheWrongType) {
-  expectError("bad_ipopt_value.yaml", "task_ipopt.max_iter",
+  expectProblemError("bad_ipopt_value.yaml", "task_ipopt.max_iter",
               {"Ipopt option 'max_iter': invalid value 'many'", "expected an integer"});
 }
 TEST(ProblemFileSolve, AnIpoptValueThatIsNotAScalar) {
-  expectError("bad_ipopt_nested.yaml", "ipopt.tol", {"expected the option's value (a number or a word)"});
+  expectProblemError("bad_ipopt_nested.yaml", "ipopt.tol", {"expected the option's value (a number or a word)"});
 }
 
 }  // namespace
