@@ -98,7 +98,7 @@ struct EquationOfMotion {
     return false;
   }
   // The Hessian of φ = λᵀF: nested duals only for the pairs within q and between q and q̇ (one
-  // outer direction per coordinate); the rest, in addHessian (functions.cpp), from first-order
+  // outer direction per coordinate); the rest, in addHessian (equation_of_motion.cpp), from first-order
   // passes and double evaluations:
   //   (q, q̈):  ∂²φ/∂q_i∂q̈_j = ∂(M(q) λ)_j/∂q_i, M symmetric; M(q) λ = RNEA(q, 0, λ) without gravity
   //   (q, r):  φ_c = −f_c(q, r)·w_c(q), w_c = J_c(q) λ the contact's relative velocity at q̇ = λ
@@ -145,7 +145,7 @@ struct EquationOfMotion {
   }
   // The Jacobian by AD for the q and q̇ F depends on (the others' columns are zero) and a free
   // point's s only; the columns of the inputs F is affine in, with coefficients of q (and the reactions)
-  // alone, in jacobianColumns (functions.cpp):
+  // alone, in jacobianColumns (equation_of_motion.cpp):
   //   q̈ or Δq̇: M(q) (CRBA, RBDA Table 6.2)    u: −B    r_n, t_i: −J_cᵀ ∂f_c/∂r_n, −J_cᵀ ∂f_c/∂t_i
   // (a stop's r_n: −sign e_i). For the biped that is 2 of 7 chunks of 8 in continuous time.
   bool columnByAd(int i) const {
