@@ -47,6 +47,8 @@ void BM_Evaluate(benchmark::State& state, const std::string& problem_name, Metho
     benchmark::DoNotOptimize(g.data());
   }
   state.counters["variables"] = n;
+  state.counters["jacobian_entries"] = nnz_jac;
+  state.counters["hessian_entries"] = nnz_h;
 }
 
 #define SALTUS_EVALUATE(problem, method, what) \
@@ -62,6 +64,7 @@ SALTUS_EVALUATE_ALL(pendulum_conveyor, FirstOrder);
 SALTUS_EVALUATE_ALL(point_mass_throw, Impulsive);
 SALTUS_EVALUATE_ALL(point_mass_throw, Continuous);
 SALTUS_EVALUATE_ALL(biped_stop, Impulsive);
+SALTUS_EVALUATE_ALL(ollie_simple, Impulsive);
 SALTUS_EVALUATE_ALL(ollie, Impulsive);
 
 }  // namespace

@@ -73,13 +73,13 @@ struct EquationOfMotion {
   int outputs() const { return nv(); }
   // Whether M, C q̇ and g depend on coordinate k's position and rate: not on a world
   // translation's (dynamics/world_translation.hpp). The reactions' −J_cᵀ f_c depend on q_k when
-  // some contact's Jacobian does (ContactPair::jacobian_with), and are affine in the world
-  // translations jointly. So F is affine in the world translations' q, and independent of their
-  // q̇ and of those q no contact's Jacobian depends on (zero columns).
+  // some contact's Jacobian where its reaction acts does (ContactPair::reaction_jacobian_with),
+  // and are affine in the world translations jointly. So F is affine in the world translations'
+  // q, and independent of their q̇ and of those q no contact's Jacobian depends on (zero columns).
   bool inDynamics(int k) const { return !dynamics::isWorldTranslation(models->model<double>(), k); }
   bool inReactions(int k) const {
     for (const ContactPair& c : *contacts)
-      if (!c.isStop() && c.jacobian_with[k]) return true;
+      if (!c.isStop() && c.reaction_jacobian_with[k]) return true;
     return false;
   }
   bool dependsOn(int k) const { return inDynamics(k) || inReactions(k); }
@@ -122,7 +122,7 @@ struct EquationOfMotion {
   void addHessian(const double* x, const double* lambda, double* H) const;
   // The pairs addHessian writes (i ≥ j): (q̇, q̇) and (q̈ or Δq̇, q) of the dynamics' coordinates,
   // a contact's (r_n, q), (t_i, q) and (s, q) for the q its Jacobian depends on
-  // (ContactPair::jacobian_with), its (t_i, r_n) in the Activation form, and a free point's
+  // (ContactPair::reaction_jacobian_with), its (t_i, r_n) in the Activation form, and a free point's
   // (s, r_n), (s, t_i).
   bool pairSupplied(int i, int j) const {
     const int n = nv(), first_acceleration = (with_dynamics ? 2 : 1) * n;
@@ -133,7 +133,7 @@ struct EquationOfMotion {
       const int end = k + 1 + c.k() + c.freeAxes();
       if (i >= k && i < end) {
         if (c.isStop()) return false;
-        if (j < n) return c.jacobian_with[j];
+        if (j < n) return c.reaction_jacobian_with[j];
         if (j < k || i == j) return false;
         const int a = i - k, b = j - k;    // a > b: r_n is 0, t is 1 … k, s after
         if (a <= c.k()) return b == 0 && friction == FrictionForm::Activation;  // (t_a, r_n)

@@ -221,7 +221,7 @@ struct SlipSlack {
   int inputs() const { return 2 * models->model<double>().nv() + contact->freeAxes() + 1 + contact->k(); }
   int outputs() const { return contact->k(); }
   // q (v_t = J(q) q̇ − v_surface), of the coordinates the Jacobian depends on
-  // (ContactPair::jacobian_with): F has no others; a free point's s (B's velocity at
+  // (ContactPair::reaction_jacobian_with): F has no others; a free point's s (B's velocity at
   // p + Σ t_i s_i, times q̇ and the directions of q).
   bool isS(int i) const {
     const int n = models->model<double>().nv();
@@ -229,23 +229,23 @@ struct SlipSlack {
   }
   bool nonlinear(int i) const {
     const int n = models->model<double>().nv();
-    return (i < n && contact->jacobian_with[i]) || isS(i);
+    return (i < n && contact->reaction_jacobian_with[i]) || isS(i);
   }
   // γ and ψ enter with constant coefficients: the pairs of a q the Jacobian depends on
-  // (ContactPair::jacobian_with) with another such q, one of them not a world translation, or
+  // (ContactPair::reaction_jacobian_with) with another such q, one of them not a world translation, or
   // with a q̇ the contact moves with, and s with those q and q̇ (it enters affinely: no (s, s)).
   bool pairByAd(int i, int j) const {
     const int n = models->model<double>().nv();
-    if (isS(i)) return j < 2 * n && contact->jacobian_with[j % n];
-    if (j >= n || i >= 2 * n || !contact->jacobian_with[j]) return false;
+    if (isS(i)) return j < 2 * n && contact->reaction_jacobian_with[j % n];
+    if (j >= n || i >= 2 * n || !contact->reaction_jacobian_with[j]) return false;
     if (i >= n) return contact->moves_with[i - n];
     const auto& model = models->model<double>();  // J is affine in the world translations jointly
-    return contact->jacobian_with[i] && (turnsWith(*contact, model, i) || turnsWith(*contact, model, j));
+    return contact->reaction_jacobian_with[i] && (turnsWith(*contact, model, i) || turnsWith(*contact, model, j));
   }
   // The Jacobian by AD for the q's the Jacobian depends on and s; q̇'s columns are ±d_iᵀ J(q), γ's
   // −1, ψ's the identity, the other q's zero (jacobianColumns, functions.cpp).
   bool columnByAd(int i) const {
-    return (i < models->model<double>().nv() && contact->jacobian_with[i]) || isS(i);
+    return (i < models->model<double>().nv() && contact->reaction_jacobian_with[i]) || isS(i);
   }
   void jacobianColumns(const double* x, double* J) const;
   template <class S>

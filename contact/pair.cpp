@@ -51,6 +51,10 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
       const bool shifts_both = p.body_b < 0 || (path_a[k] && path_b[k]);  // A against a world plane
       p.jacobian_with[k] = p.moves_with[k] && !(dynamics::isWorldTranslation(scene.model, k) && shifts_both);
     }
+    p.reaction_jacobian_with = p.jacobian_with;
+    if (p.freePoint())
+      for (int k = 0; k < scene.model.nv(); ++k)
+        p.reaction_jacobian_with[k] = p.moves_with[k] && !dynamics::isWorldTranslation(scene.model, k);
     pairs.push_back(std::move(p));
   }
   for (const scene::LimitStop& l : scene.limits) {
@@ -66,6 +70,7 @@ std::vector<ContactPair> contactPairs(const scene::Scene& scene) {
     p.moves_with.assign(scene.model.nv(), false);
     p.moves_with[l.coordinate] = true;
     p.jacobian_with.assign(scene.model.nv(), false);
+    p.reaction_jacobian_with = p.jacobian_with;
     pairs.push_back(std::move(p));
   }
   return pairs;

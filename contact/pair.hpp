@@ -65,6 +65,13 @@ struct ContactPair {
   // world translations jointly, the contact frame does not depend on them, and the gap and the
   // plane coordinates are affine in them. A stop's names none: its Jacobian is constant.
   std::vector<bool> jacobian_with;
+  // Of those, the ones the Jacobian at which the reaction acts and the slip is measured, and the
+  // contact frame, can depend on: jacobian_with for a point at A's point; for a free point
+  // (free_axes) moves_with less every world translation, since its Jacobian
+  // J_A(x_A) − J_B(p + Σ t_i s_i) at given plane coordinates s levers A's rotations about A's
+  // point and B's about a point fixed in B, neither of which a world translation moves against
+  // the other's axes. (The restitution's normal velocity is at A's point: jacobian_with.)
+  std::vector<bool> reaction_jacobian_with;
 
   bool isStop() const { return kind == PairKind::JointStop; }
   bool freePoint() const { return !free_axes.empty(); }

@@ -190,6 +190,20 @@ TEST(AdFunction, DeclaredLinearInputsOllie) {
   p.hints.clear();  // at [10, 0]: off a mesh of two elements
   remesh(p, 2, 2);
   checkDeclaredLinearity(p, Method::Impulsive, 7);  // eom, gap, restitution, slip, integration, offset, extent
+  // The feet's reactions act at their plane coordinates s, where the Jacobian depends on no
+  // world translation (ContactPair::reaction_jacobian_with): the equations of motion depend on
+  // the board's angle alone among the q, and each is one sweep of AD columns (q and s) at a jump.
+  const Transcription t(p, Method::Impulsive);
+  const auto& model = t.models().model<double>();
+  int eoms = 0;
+  for (const Block& b : t.blocks())
+    if (const auto* eom = dynamic_cast<const AdFunction<EquationOfMotion>*>(b.f.get())) {
+      ++eoms;
+      for (int k = 0; k < model.nv(); ++k)
+        EXPECT_EQ(eom->functor().dependsOn(k), !dynamics::isWorldTranslation(model, k)) << k;
+      if (!eom->functor().with_dynamics) EXPECT_EQ(eom->jacobianSweeps(), 1);
+    }
+  EXPECT_GT(eoms, 0);
 }
 
 // The legged problems: the blocks skip the coordinates a contact does not move with (the biped's

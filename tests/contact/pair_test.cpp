@@ -124,6 +124,73 @@ TEST(ContactPairs, JacobianWithLeavesOutTheWorldTranslations) {
   EXPECT_GT(lever_moved, 0);  // the rider's x moves the feet against the board's rotation axis
 }
 
+// reaction_jacobian_with: for a free point (feet free along the deck: the point-mass riders and
+// the rider's shank tips), the coordinates J_A(x_A) − J_B(p + Σ t_i s_i) at given plane
+// coordinates s and the plane's normal depend on: no world translation, though jacobian_with
+// names the riders' and the board's (the Jacobian at A's point levers B's rotation about A's
+// point, which a translation of A moves). Shifting a coordinate it leaves out leaves that
+// Jacobian and the normal as they were, at random states and random s; the Jacobian at A's
+// point does change with the rider's x. For a point at A's point it is jacobian_with.
+TEST(ContactPairs, ReactionJacobianWithOfAFreePointLeavesOutEveryWorldTranslation) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int free_points = 0, left_out = 0, lever_at_A = 0, named = 0, changed = 0;
+  for (const char* name : {"skateboard", "skateboard_rider", "hyq_drop", "box_stack"}) {
+    const scene::Scene sc = scene::loadScene(name);
+    const auto& model = sc.model;
+    dynamics::Data<double> data(model);
+    for (const ContactPair& pair : contactPairs(sc)) {
+      const std::string what = std::string(name) + " " + pair.name;
+      ASSERT_EQ(static_cast<int>(pair.reaction_jacobian_with.size()), model.nv()) << what;
+      if (!pair.freePoint()) {
+        EXPECT_EQ(pair.reaction_jacobian_with, pair.jacobian_with) << what;
+        continue;
+      }
+      ++free_points;
+      for (int trial = 0; trial < 3; ++trial) {
+        Eigen::VectorXd q(model.nq());
+        for (int i = 0; i < q.size(); ++i) q[i] = U(rng);
+        const double s[2] = {U(rng), U(rng)};
+        struct Look {
+          dynamics::Mat3X<double> J_s, J_A;  // at the plane coordinates s, at A's point
+          Eigen::Vector3d normal;
+        };
+        auto look = [&](const Eigen::VectorXd& at) {
+          dynamics::forwardKinematics(model, data, at);
+          Look l{dynamics::Mat3X<double>::Zero(3, model.nv()), dynamics::Mat3X<double>(3, model.nv()),
+                 planeNormal(pair, data)};
+          forEachJacobianColumnAt(model, data, pair, s, [&](int k, const Eigen::Vector3d& c) { l.J_s.col(k) += c; });
+          relativeJacobian(model, data, pair, l.J_A);
+          return l;
+        };
+        const Look l0 = look(q);
+        for (int k = 0; k < model.nv(); ++k) {
+          EXPECT_TRUE(!pair.reaction_jacobian_with[k] || pair.jacobian_with[k]) << what << " " << k;
+          if (!pair.moves_with[k]) continue;
+          Eigen::VectorXd q1 = q;
+          q1[model.positionOf(k)] += 0.4;
+          const Look l1 = look(q1);
+          const double scale = 1 + l0.J_s.norm();
+          if (pair.reaction_jacobian_with[k]) {
+            ++named;
+            changed += (l1.J_s - l0.J_s).norm() > 1e-6 * scale || (l1.normal - l0.normal).norm() > 1e-6;
+            continue;
+          }
+          ++left_out;
+          EXPECT_TRUE(dynamics::isWorldTranslation(model, k)) << what << " " << k;
+          EXPECT_LT((l1.J_s - l0.J_s).norm(), 1e-12 * scale) << what << " " << k;
+          EXPECT_LT((l1.normal - l0.normal).norm(), 1e-14) << what << " " << k;
+          lever_at_A += pair.jacobian_with[k] && (l1.J_A - l0.J_A).norm() > 1e-6 * scale;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(free_points, 4);  // two feet on each deck
+  EXPECT_GT(left_out, 0);
+  EXPECT_GT(lever_at_A, 0);  // what jacobian_with keeps them for: the Jacobian at A's point
+  EXPECT_GT(changed, named / 2);
+}
+
 }  // namespace
 }  // namespace saltus::contact
 
