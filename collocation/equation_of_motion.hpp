@@ -83,19 +83,32 @@ struct EquationOfMotion {
     return false;
   }
   bool dependsOn(int k) const { return inDynamics(k) || inReactions(k); }
+  // The contact among whose inputs input i is (its r_n, its k tangential variables, a free
+  // point's s): the pair, the input index of its r_n and i's place from there (0: r_n, 1 … k:
+  // the tangential variables, then s); no pair when i is not a contact's.
+  struct ContactInput {
+    const ContactPair* pair = nullptr;
+    int first = 0, offset = 0;
+  };
+  ContactInput contactInput(int i) const {
+    int k = (with_dynamics ? 3 : 2) * nv() + inputs_count();
+    for (const ContactPair& c : *contacts) {
+      const int end = k + 1 + c.k() + c.freeAxes();
+      if (i >= k && i < end) return {&c, k, i - k};
+      k = end;
+    }
+    return {};
+  }
   // Affine in q̈ (or Δq̇), u and the tangential variables for fixed q, q̇, r_n; q̇ enters
   // quadratically (C(q, q̇) q̇), r_n times α_i in the Activation form's μ r_n α_i.
   bool nonlinear(int i) const {
     const int n = nv();
     if (i < n) return inDynamics(i);                             // q
     if (with_dynamics && i < 2 * n) return inDynamics(i - n);  // q̇
-    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
-    for (const ContactPair& c : *contacts) {
-      if (i == k) return friction == FrictionForm::Activation && c.k() > 0;  // r_n
-      if (i >= k + 1 + c.k() && i < k + 1 + c.k() + c.freeAxes()) return true;  // s (times the reaction)
-      k += 1 + c.k() + c.freeAxes();
-    }
-    return false;
+    const ContactInput in = contactInput(i);
+    if (!in.pair) return false;
+    if (in.offset == 0) return friction == FrictionForm::Activation && in.pair->k() > 0;  // r_n
+    return in.offset > in.pair->k();  // s (times the reaction)
   }
   // The Hessian of φ = λᵀF: nested duals only for the pairs within q and between q and q̇ (one
   // outer direction per coordinate); the rest, in addHessian (equation_of_motion.cpp), from first-order
@@ -128,20 +141,14 @@ struct EquationOfMotion {
     const int n = nv(), first_acceleration = (with_dynamics ? 2 : 1) * n;
     if (with_dynamics && j >= n && i < 2 * n) return inDynamics(i - n) && inDynamics(j - n);
     if (i >= first_acceleration && i < first_acceleration + n) return j < n && inDynamics(j);
-    int k = first_acceleration + n + inputs_count();
-    for (const ContactPair& c : *contacts) {
-      const int end = k + 1 + c.k() + c.freeAxes();
-      if (i >= k && i < end) {
-        if (c.isStop()) return false;
-        if (j < n) return c.reaction_jacobian_with[j];
-        if (j < k || i == j) return false;
-        const int a = i - k, b = j - k;    // a > b: r_n is 0, t is 1 … k, s after
-        if (a <= c.k()) return b == 0 && friction == FrictionForm::Activation;  // (t_a, r_n)
-        return b <= c.k();                  // (s, r_n), (s, t_b); (s, s) is zero
-      }
-      k = end;
-    }
-    return false;
+    const ContactInput in = contactInput(i);
+    if (!in.pair || in.pair->isStop()) return false;
+    const ContactPair& c = *in.pair;
+    if (j < n) return c.reaction_jacobian_with[j];
+    if (j < in.first || i == j) return false;
+    const int a = in.offset, b = j - in.first;  // a > b: r_n is 0, t is 1 … k, s after
+    if (a <= c.k()) return b == 0 && friction == FrictionForm::Activation;  // (t_a, r_n)
+    return b <= c.k();                                                      // (s, r_n), (s, t_b); (s, s) is zero
   }
   // The Jacobian by AD for the q and q̇ F depends on (the others' columns are zero) and a free
   // point's s only; the columns of the inputs F is affine in, with coefficients of q (and the reactions)
@@ -152,12 +159,8 @@ struct EquationOfMotion {
     const int n = nv();
     if (i < n) return dependsOn(i);                            // q
     if (with_dynamics && i < 2 * n) return inDynamics(i - n);  // q̇
-    int k = (with_dynamics ? 3 : 2) * n + inputs_count();
-    for (const ContactPair& c : *contacts) {
-      if (i >= k + 1 + c.k() && i < k + 1 + c.k() + c.freeAxes()) return true;  // s
-      k += 1 + c.k() + c.freeAxes();
-    }
-    return false;
+    const ContactInput in = contactInput(i);
+    return in.pair && in.offset > in.pair->k();  // s
   }
   void jacobianColumns(const double* x, double* J) const;
 
