@@ -57,8 +57,14 @@ int positiveInteger(YamlReader& r, const YAML::Node& n, const std::string& path,
   return k;
 }
 
+// A path given in the spec, relative to the spec's folder.
+std::string resolvePath(const std::string& path, const std::string& spec_file) {
+  if (fs::path(path).is_absolute() || spec_file.empty()) return path;
+  return (fs::path(spec_file).parent_path() / path).lexically_normal().string();
+}
+
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_scale", "hints", "tighten_within", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -90,6 +96,15 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     } catch (const std::invalid_argument& e) {
       r.fail(n["seed"], "options.seed", e.what());
     }
+  }
+  if (n["seed_from"]) {
+    const std::string given = r.text(n["seed_from"], "options.seed_from");
+    o.seed_from = resolvePath(given, r.file());
+    if (!fs::exists(o.seed_from))
+      r.fail(n["seed_from"], "options.seed_from",
+             "no earlier solution at '" + o.seed_from + "' (expected the folder saltus optimize --out wrote, relative to the spec)");
+    if (n["seed"])
+      r.fail(n["seed_from"], "options.seed_from", "not with options.seed: the seed is the earlier solution, perturbed by seed_scale");
   }
   for (const auto& [key, value] : {std::pair{"hessian", &o.hessian}, {"feasibility_hessian", &o.feasibility_hessian}}) {
     if (!n[key]) continue;
@@ -134,10 +149,10 @@ void readReplay(YamlReader& r, const YAML::Node& n, ReplayCheck& c) {
   }
 }
 
+// A problem is a built-in name or a path (a '/' in it, or a YAML file's extension).
 std::string resolveProblem(const std::string& name, const std::string& spec_file) {
   const bool is_path = name.find('/') != std::string::npos || name.ends_with(".yaml") || name.ends_with(".yml");
-  if (!is_path || fs::path(name).is_absolute() || spec_file.empty()) return name;
-  return (fs::path(spec_file).parent_path() / name).lexically_normal().string();
+  return is_path ? resolvePath(name, spec_file) : name;
 }
 
 // Characters safe in a directory name; others become '_'.
@@ -220,6 +235,11 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
   if (unique.size() != spec.seeds.size()) r.fail(seeds, "seeds", "a seed is listed twice");
 
   if (root["options"]) readOptions(r, root["options"], spec.options);
+  if (!spec.options.seed_from.empty())
+    for (std::size_t i = 0; i < spec.methods.size(); ++i)
+      if (!splitMethod(spec.methods[i]).seed_method.empty())
+        r.fail(methods[i], scene::indexPath("methods", i),
+               "a two-step method is seeded by its first method's solution, not by options.seed_from");
   if (root["replay"]) readReplay(r, root["replay"], spec.replay);
   if (root["success"]) {
     const std::string rule = r.text(root["success"], "success");
@@ -276,6 +296,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
+  if (!o.seed_from.empty()) a.insert(a.end(), {"--seed-from", o.seed_from});
   if (!o.hints) a.push_back("--no-hints");
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});

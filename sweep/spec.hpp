@@ -7,6 +7,7 @@
 //   set: {restitution: [0, 0.5], height: [0.05, 0.3]}  # every combination, for every problem
 //   seeds: {from: 1, count: 10}                         # or a list [1, 2, 7]
 //   options: {N: 20, restarts: 0}                        # passed to every solve
+//   options: {seed_from: solutions/ollie, seed_scale: 1e-4}  # an earlier solution, perturbed
 //   success: physical                                    # or feasible (below)
 //
 // A problem may carry a grid of its own, combined with the top-level one:
@@ -34,6 +35,10 @@ struct SolveSettings {
   std::optional<int> penalty_iterations;  // --penalty-iterations
   std::optional<bool> task_penalty;       // --task-penalty on|off
   std::string seed_kind;  // --seed-kind: null, perturbed or simulation; empty: the problem's
+  // --seed-from: an earlier solution's folder (or its trajectory.csv), read relative to the
+  // spec, perturbed by seed_scale in every solve (the paper's §VI strategy 4); not with
+  // seed_kind or a two-step method, which choose the seed otherwise.
+  std::string seed_from;
   bool hints = true;      // false: --no-hints
   std::string hessian;              // --hessian: "", "exact" or "limited-memory"
   std::string feasibility_hessian;  // --feasibility-hessian: the same

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "saltus/build_paths.hpp"
 #include "tests/support/run_saltus.hpp"
 
 namespace {
@@ -78,6 +79,31 @@ TEST(CliSweep, SmallSweepWritesRecordsSummaryReportAndCharts) {
   const auto again = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string()});
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_NE(again.err.find("2 of 2 solves have a record (0 run now)"), std::string::npos) << again.err;
+  fs::remove_all(dir);
+}
+
+// The paper's strategy 4 as a sweep: every seed starts from the same earlier solution, perturbed
+// by seed_scale with its own random seed (--seed-from in each solve's command and summary).
+TEST(CliSweep, AnEarlierSolutionSeedsEverySolve) {
+  const fs::path dir = sweepDir("seed_from");
+  fs::create_directories(dir);
+  const fs::path solution = fs::path(SALTUS_SOURCE_DIR) / "tests/data/solutions/point_mass_drop_inelastic";
+  std::ofstream(dir / "spec.yaml") << "problems: [point_mass_drop]\nmethods: [impulsive]\nset: {restitution: [0]}\n"
+                                      "seeds: [1, 2]\noptions: {restarts: 0, seed_from: "
+                                   << solution.string() << ", seed_scale: 0.01}\n";
+  const auto r = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (int seed : {1, 2}) {
+    const fs::path run = dir / "out/runs" / ("point_mass_drop__impulsive__restitution=0__seed=" + std::to_string(seed));
+    const nlohmann::json rec = nlohmann::json::parse(readFile(run / "record.json"));
+    EXPECT_NE(rec["command"].get<std::string>().find("--seed-from " + solution.string()), std::string::npos) << rec["command"];
+    EXPECT_TRUE(rec["feasible"].get<bool>()) << seed;
+    const nlohmann::json solve = nlohmann::json::parse(readFile(run / "solution/summary.json"));
+    EXPECT_EQ(solve["seed"], "solution");
+    EXPECT_EQ(fs::path(solve["seed_solution"].get<std::string>()), solution);
+    EXPECT_EQ(solve["seed_scale"], 0.01);
+    EXPECT_EQ(solve["random_seed"], seed);
+  }
   fs::remove_all(dir);
 }
 

@@ -98,6 +98,40 @@ TEST(SweepSpec, ProblemPathsAreRelativeToTheSpec) {
   fs::remove_all(dir);
 }
 
+// seed_from: an earlier solution's folder, relative to the spec, passed to every solve; not with
+// a seed kind or a two-step method (which seed otherwise), nor a folder that is not there.
+TEST(SweepSpec, AnEarlierSolutionIsRelativeToTheSpecAndSeedsEverySolve) {
+  const fs::path dir = fs::temp_directory_path() / ("saltus_sweep_seed_from_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "solutions/drop");
+  const std::string head = "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1, 2]\n";
+  {
+    std::ofstream(dir / "spec.yaml") << head << "options: {seed_from: solutions/drop, seed_scale: 0.001}\n";
+  }
+  const SweepSpec spec = readSweepSpec((dir / "spec.yaml").string());
+  EXPECT_EQ(fs::path(spec.options.seed_from), (dir / "solutions/drop").lexically_normal());
+  for (const SweepCase& c : expandSweep(spec)) {
+    const std::vector<std::string> args = c.optimizeArguments(spec.options, "OUT");
+    const std::vector<std::string> from = {"--seed-from", spec.options.seed_from}, scale = {"--seed-scale", "0.001"};
+    EXPECT_NE(std::search(args.begin(), args.end(), from.begin(), from.end()), args.end()) << c.id;
+    EXPECT_NE(std::search(args.begin(), args.end(), scale.begin(), scale.end()), args.end()) << c.id;
+  }
+  const std::string file = (dir / "spec.yaml").string();
+  const std::string missing = errorOf(head + "options: {seed_from: solutions/none}\n", file);
+  EXPECT_NE(missing.find(file + ":4:22: options.seed_from: no earlier solution at '" + (dir / "solutions/none").string() + "'"),
+            std::string::npos)
+      << missing;
+  const std::string with_kind = errorOf(head + "options: {seed: perturbed, seed_from: solutions/drop}\n", file);
+  EXPECT_NE(with_kind.find("options.seed_from: not with options.seed"), std::string::npos) << with_kind;
+  const std::string two_step = errorOf(
+      "problems: [point_mass_drop]\nmethods: [impulsive, impulsive from first-order]\nseeds: [1]\n"
+      "options: {seed_from: solutions/drop}\n",
+      file);
+  EXPECT_NE(two_step.find(file + ":2:22: methods[1]: a two-step method is seeded by its first method's solution"),
+            std::string::npos)
+      << two_step;
+  fs::remove_all(dir);
+}
+
 // The paper's strategy 1 written as YAML reads it: a bare null is the null seed (as in a problem
 // file's solve.seed), quoted or not.
 TEST(SweepSpec, ABareNullSeedIsTheNullSeed) {
