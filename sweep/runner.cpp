@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -220,6 +221,11 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
     else
       pending.push_back(&c);
   }
+  // Seed by seed: the first seeds of every cell before the next seeds of any, so that a sweep
+  // stopped part-way (a session's end, a time limit) has a look at each cell, and a resume
+  // goes on from there. Records and reports keep the grid's order.
+  std::stable_sort(pending.begin(), pending.end(),
+                   [](const SweepCase* a, const SweepCase* b) { return a->seed < b->seed; });
   p.done = p.skipped;
   for (const SweepRecord& r : readRecords(out, cases)) p.failed += !r.success();
 

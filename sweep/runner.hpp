@@ -5,7 +5,8 @@
 // physical check, spec.hpp's ReplayCheck) and writes DIR/runs/<id>/record.json atomically
 // (temporary file, then rename): a solve has a record exactly when it finished.
 //
-// Resumable: solves that have a record are skipped; a solve without one (it was running when the
+// Solves start seed by seed (the first seed of every cell, then the second, ...). Resumable:
+// solves that have a record are skipped; a solve without one (it was running when the
 // sweep was killed) starts again from an empty folder. Interrupted (SIGINT, SIGTERM), the runner
 // stops its children, writes no record for them and returns; DIR/.lock (flock) keeps a second
 // sweep out of the same folder while one runs.

@@ -70,6 +70,55 @@ TEST(Runner, ASolveKilledFromOutsideHasAnErrorRecordLocallyAndNoneInASlurmTask) 
   fs::remove_all(dir);
 }
 
+// A "saltus" that appends its arguments to a file and ends without a solution (an error record).
+std::string loggingProgram(const fs::path& dir) {
+  const fs::path p = dir / "fake_saltus";
+  std::ofstream(p) << "#!/bin/sh\necho \"$*\" >> '" << (dir / "calls.txt").string() << "'\nexit 1\n";
+  fs::permissions(p, fs::perms::owner_all);
+  return p.string();
+}
+
+TEST(Runner, SolvesStartSeedBySeedAndAResumeRunsOnlyTheCasesWithoutARecord) {
+  const fs::path dir = runnerScratch("order");
+  std::vector<SweepCase> cases;
+  for (const std::string method : {"first-order", "impulsive"})
+    for (unsigned seed : {1u, 2u, 3u}) {
+      SweepCase c;
+      c.problem = c.problem_name = "point_mass_drop";
+      c.method = method;
+      c.seed = seed;
+      c.id = "point_mass_drop__" + method + "__seed=" + std::to_string(seed);
+      cases.push_back(c);
+    }
+  RunnerOptions o;
+  o.saltus = loggingProgram(dir);
+  // One case already has its record: a resume leaves it alone.
+  fs::create_directories(caseDirectory((dir / "out").string(), cases[1]));
+  SweepRecord done;
+  done.id = cases[1].id;
+  done.problem = done.problem_name = "point_mass_drop";
+  done.method = "first-order";
+  done.seed = 2;
+  done.status = "error";
+  std::ofstream(fs::path(caseDirectory((dir / "out").string(), cases[1])) / "record.json") << toJson(done).dump(2);
+
+  const RunResult r = runSweep(oneSolveSpec(), cases, (dir / "out").string(), o, nullptr);
+  EXPECT_EQ(r.ran, 5);
+  ASSERT_EQ(r.records.size(), 6u);  // the grid's order, whatever the order they ran in
+  for (std::size_t i = 0; i < cases.size(); ++i) EXPECT_EQ(r.records[i].id, cases[i].id);
+  std::ifstream calls(dir / "calls.txt");
+  std::vector<std::string> started;
+  for (std::string line; std::getline(calls, line);) {
+    const auto method = line.find("--method ") + 9, seed = line.find("--seed ") + 7;
+    started.push_back(line.substr(method, line.find(' ', method) - method) + " " +
+                      line.substr(seed, line.find(' ', seed) - seed));
+  }
+  const std::vector<std::string> expected = {"first-order 1", "impulsive 1", "impulsive 2", "first-order 3",
+                                             "impulsive 3"};
+  EXPECT_EQ(started, expected);
+  fs::remove_all(dir);
+}
+
 TEST(Runner, ASecondSweepInALockedFolderIsRefused) {
   const fs::path dir = runnerScratch("locked");
   DirectoryLock held(dir.string());
