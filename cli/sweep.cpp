@@ -120,7 +120,7 @@ std::string report(const std::string& spec_file, const std::vector<SweepCase>& c
     }
   }
   if (charts)
-    md << "\n## Charts\n\nPer cell and method: median (marker), range (thin line), interquartile range (thick line), "
+    md << "\n## Charts\n\nPer cell and method: mean (circle), median (tick), range (thin line), interquartile range (thick line), "
           "as in the paper's Figs. 6–8 (Shield, Johnson & Patel, IEEE T-RO 2023).\n\n"
           "![solve time](charts/sweep_time.png)\n\n![mean local error](charts/sweep_error.png)\n\n"
           "![cost](charts/sweep_cost.png)\n";

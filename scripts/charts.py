@@ -19,7 +19,7 @@
         (right-hand axis, N s); element boundaries as faint vertical lines, from the h[n,0]
         values of DIR/variables.csv when it is there
     charts.py sweep-time|sweep-error|sweep-cost DIR/summary.json --png OUT.png --svg OUT.svg
-        `saltus sweep`: per cell and method, the range, interquartile range and median of the
+        `saltus sweep`: per cell and method, the range, interquartile range, mean and median of the
         solve time, mean local error or cost (normalised per case) of the successful solves, in
         the style of the paper's Figs. 6-8
 
@@ -438,8 +438,8 @@ SWEEP_METRICS = {
 
 def sweep_chart(metric, args):
     """Per cell (problem and parameter values) and method, over the successful solves: the range
-    (thin line), the interquartile range (thick line) and the median (marker), in the style of the
-    paper's Figs. 6-8. Cost is normalised per case (problem, parameters, seed) by the lowest cost
+    (thin line), the interquartile range (thick line), the mean (circle, the paper's marker) and
+    the median (tick), in the style of the paper's Figs. 6-8. Cost is normalised per case (problem, parameters, seed) by the lowest cost
     any method reached there, as in Fig. 8, when there are several methods and every cost is
     positive; otherwise it is drawn as it is."""
     import json
@@ -501,8 +501,9 @@ def sweep_chart(metric, args):
             lo, q1, med, q3, hi = np.percentile(vs, [0, 25, 50, 75, 100])
             ax.plot([lo, hi], [y, y], "-", color=colours[mi % 10], linewidth=1)
             ax.plot([q1, q3], [y, y], "-", color=colours[mi % 10], linewidth=5, alpha=0.6)
-            ax.plot([med], [y], "o", color=colours[mi % 10], markersize=6,
+            ax.plot([float(np.mean(vs))], [y], "o", color=colours[mi % 10], markersize=6,
                     label=m if ci == next(i for i, cc in enumerate(cases) if values.get((cc, m))) else None)
+            ax.plot([med], [y], "|", color="black", markersize=9, markeredgewidth=1.5)
     ax.set_yticks(range(len(cases)))
     ax.set_yticklabels(["\n".join(textwrap.wrap(c, 40)) for c in cases], fontsize=8)
     ax.invert_yaxis()
@@ -513,7 +514,8 @@ def sweep_chart(metric, args):
     if ax.get_legend_handles_labels()[0]:  # a legend only of the methods with a success
         ax.legend(fontsize=8, loc="best")
     n_ok = len(records)
-    ax.set_title("%s over the successful solves (%d of %d); median, interquartile range, range (as in %s)"
+    ax.set_title("%s over the successful solves (%d of %d);\nmean (circle), median (tick), interquartile range, "
+                 "range (as in %s)"
                  % (label.split(" (")[0], n_ok, len(every), figure), fontsize=9)
     save(fig, args.png, args.svg)
 

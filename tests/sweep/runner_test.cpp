@@ -1,6 +1,7 @@
 // The local runner with a stand-in for `saltus optimize` (a shell script): a solve killed from
 // outside gets an error record in a local sweep, but none in a Slurm task (whose scheduler killed
-// it: the solve runs again on resume); a second runner in a locked folder is refused.
+// it: the solve runs again on resume); solves start seed by seed and a resume runs only the cases
+// without a record; a second runner in a locked folder is refused.
 #include "sweep/runner.hpp"
 
 #include <unistd.h>
