@@ -99,6 +99,11 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
       throw UsageError("--tighten-within: expected a finite non-negative ratio (0: never tighten)");
     options.solve.tighten_within = *opt.tighten_within;
   }
+  if (opt.tighten_factor) {
+    if (!(*opt.tighten_factor >= 0) || !std::isfinite(*opt.tighten_factor))
+      throw UsageError("--tighten-factor: expected a finite non-negative factor (at most 1: one step)");
+    options.solve.tighten_factor = *opt.tighten_factor;
+  }
   options.penalty_iterations = opt.penalty_iterations;  // checked by adjustedProblem, below
   if (!opt.task_penalty.empty()) {
     if (opt.task_penalty != "on" && opt.task_penalty != "off")
@@ -210,6 +215,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--tighten-within", opt->tighten_within,
                   "tighten (every product bounded by 0.9 x the tolerance) a solve ending infeasible with products "
                   "within this many times the tolerance (default: always; 0: never)");
+  app->add_option("--tighten-factor", opt->tighten_factor,
+                  "from products far above the tolerance, tighten in steps: the bound from 1/F of the products down "
+                  "by F a step to the tolerance (default 10; at most 1: one step)");
   app->add_option("--task-max-iter", opt->task_max_iter,
                   "iteration limit of the task stage (default: Ipopt's max_iter); a task stage stopped by it at a "
                   "feasible point gives a feasible, not converged, solution");

@@ -22,6 +22,7 @@ struct OptimizeCliOptions {
   std::optional<double> seed_scale;
   std::optional<int> restarts;
   std::optional<double> tighten_within;
+  std::optional<double> tighten_factor;
   std::optional<int> task_max_iter;
   std::optional<int> penalty_iterations;
   std::string task_penalty;  // --task-penalty on|off; empty: the problem's

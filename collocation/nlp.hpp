@@ -98,6 +98,11 @@ class Nlp : public Ipopt::TNLP {
   // tightening stage, whose only aim is such a point). Ipopt then returns User_Requested_Stop,
   // and stoppedAtFeasible() says why.
   void stopWhenFeasible() { stop_when_feasible_ = true; }
+  // Tighten: every ε bounded by `bound` instead of the tolerance's fraction (a step of the
+  // tightening continuation, solver.cpp).
+  void boundProducts(double bound) {
+    for (int e : t_.penaltyVariables()) x_upper_[e] = bound;
+  }
   bool stoppedAtFeasible() const { return stopped_feasible_; }
 
   // Keeps, among the points at which Ipopt evaluates the constraints (iterates and line-search

@@ -118,7 +118,9 @@ namespace {
 
 StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
                      const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
-                     SolveReport& report, bool stop_when_feasible = false) {
+                     SolveReport& report, bool stop_when_feasible = false, double step_tolerance = -1) {
+  // step_tolerance > 0: a tightening step's tolerance on the products (every ε bounded by 0.9 ×
+  // it, a point within it is feasible), in place of the problem's.
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", options.print_level);
   app->Options()->SetStringValue("sb", "yes");  // no banner
@@ -171,13 +173,15 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
 
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
   nlp->setInterruption(options.interrupted);
-  const double tolerance = t.problem().complementarity_tolerance;
+  const double tolerance = step_tolerance > 0 ? step_tolerance : t.problem().complementarity_tolerance;
+  if (stage == Stage::Tighten) nlp->boundProducts(kPenaltyBoundFraction * tolerance);
   if (stage != Stage::Feasibility) nlp->keepBestFeasible(tolerance, options.violation_tolerance);
   if (stop_when_feasible) nlp->stopWhenFeasible();
   const auto clock_start = std::chrono::steady_clock::now();
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(nlp)));
   StageReport r;
   r.name = toString(stage);
+  if (stage == Stage::Tighten) r.product_bound = kPenaltyBoundFraction * tolerance;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   r.status_code = status;
   r.status = nlp->stoppedAtFeasible() ? "Stopped_At_Feasible_Point" : ipoptStatusName(status);
@@ -284,8 +288,24 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     // When a task stage follows (it polishes the point), the tightening stage stops at its first
     // feasible point: on ollie_simple (air goal 0.05 m) it evaluated one at iteration 15 and then
     // ran 2,100 more iterations to its time limit (README). Without one it converges: the result.
+    // From products far above the tolerance the bound is lowered in steps (SolveOptions::
+    // tighten_factor), each step stopping at its first point within its own bound.
     const Eigen::VectorXd x1 = x;
-    report.stages.push_back(runStage(t, Stage::Tighten, x1, {}, options, x, multipliers, report, task_follows));
+    Eigen::VectorXd from_step = x1;
+    for (double bound = first.largest_product / options.tighten_factor;
+         options.tighten_factor > 1 && bound > tolerance && !report.interrupted;) {
+      report.stages.push_back(runStage(t, Stage::Tighten, from_step, {}, options, x, multipliers, report, true, bound));
+      const StageReport& step = report.stages.back();
+      if (!(step.largest_product <= bound && step.largest_violation <= options.violation_tolerance)) break;
+      from_step = x;
+      if (feasibleEnd(step)) break;  // the last step starts at a solution
+      bound = std::min(bound, step.largest_product) / options.tighten_factor;
+    }
+    if (report.interrupted) {
+      x = x1;
+      return false;
+    }
+    report.stages.push_back(runStage(t, Stage::Tighten, from_step, {}, options, x, multipliers, report, task_follows));
     const StageReport& tight = report.stages.back();
     if (feasibleEnd(tight)) {
       kept = report.stages.size() - 1;

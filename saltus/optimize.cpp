@@ -83,6 +83,8 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
                                 std::to_string(options.solve.print_level));
   if (!(options.solve.tighten_within >= 0))
     throw std::invalid_argument("tighten_within: expected a non-negative ratio (0: never tighten)");
+  if (!(options.solve.tighten_factor >= 0) || !std::isfinite(options.solve.tighten_factor))
+    throw std::invalid_argument("tighten_factor: expected a finite non-negative factor (at most 1: one step)");
   return problem;
 }
 
@@ -130,6 +132,7 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     o.report = collocation::solve(t, seeding.seed, solve);
   }
   o.tighten_within = solve.tighten_within;
+  o.tighten_factor = solve.tighten_factor;
   o.samples = trajectory(t, o.report.x);
   o.mean_local_error = meanLocalError(t, o.report.x);
   if (!o.report.feasible && !o.report.interrupted && !adjusted.hints.empty()) {
@@ -185,6 +188,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["penalty_weight"] = problem.cost.penalty_weight;
   j["hints_used"] = problem.hints.size();  // the hints imposed (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
+  j["tighten_factor"] = o.tighten_factor;
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;
   j["objective"] = r.objective;
@@ -217,7 +221,8 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"evaluation_seconds", s.evaluation_seconds},
                            {"hessian", s.exact_hessian ? "exact" : "limited-memory"},
                            {"hessian_evaluations", s.hessian_evaluations},
-                           {"kept_iteration", s.kept_iteration}});
+                           {"kept_iteration", s.kept_iteration},
+                           {"product_bound", s.product_bound}});
   for (const AttemptReport& a : r.attempts)
     j["attempts"].push_back({{"attempt", a.attempt},
                              {"random_seed", problem.random_seed + a.attempt},

@@ -173,6 +173,7 @@ struct OptimizeResult {
   collocation::SimulationSeedReport simulation_seed;  // a simulation seed's events and mesh
   std::string seed_fallback;  // set when the simulation seed failed and the null seed was used
   double tighten_within = 0;  // the tightening threshold used
+  double tighten_factor = 0;  // the tightening continuation's factor used
   std::vector<collocation::Sample> samples;  // the trajectory at every collocation point
   double mean_local_error = 0;
   // An infeasible solve with hints: whether the problem's own motion could meet them.

@@ -64,7 +64,7 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
 }
 
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
@@ -82,6 +82,11 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
     o.tighten_within = r.number(n["tighten_within"], "options.tighten_within");
     if (!(*o.tighten_within >= 0))
       r.fail(n["tighten_within"], "options.tighten_within", "expected a non-negative ratio (0: never tighten)");
+  }
+  if (n["tighten_factor"]) {
+    o.tighten_factor = r.number(n["tighten_factor"], "options.tighten_factor");
+    if (!(*o.tighten_factor >= 0) || !std::isfinite(*o.tighten_factor))
+      r.fail(n["tighten_factor"], "options.tighten_factor", "expected a finite non-negative factor (at most 1: one step)");
   }
   if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], "options.task_max_iter", 0);
   if (n["task_penalty"]) o.task_penalty = r.boolean(n["task_penalty"], "options.task_penalty");
@@ -300,6 +305,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, co
   if (!o.hints) a.push_back("--no-hints");
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
+  if (o.tighten_factor) a.insert(a.end(), {"--tighten-factor", formatValue(*o.tighten_factor)});
   if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});
   if (o.task_penalty) a.insert(a.end(), {"--task-penalty", *o.task_penalty ? "on" : "off"});
   if (o.penalty_iterations) a.insert(a.end(), {"--penalty-iterations", std::to_string(*o.penalty_iterations)});

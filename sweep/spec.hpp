@@ -31,6 +31,7 @@ struct SolveSettings {
   std::optional<int> N, P, restarts;
   std::optional<double> seed_scale;
   std::optional<double> tighten_within;  // --tighten-within
+  std::optional<double> tighten_factor;  // --tighten-factor
   std::optional<int> task_max_iter;      // --task-max-iter
   std::optional<int> penalty_iterations;  // --penalty-iterations
   std::optional<bool> task_penalty;       // --task-penalty on|off

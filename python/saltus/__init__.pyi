@@ -115,7 +115,8 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              seed_from: str = "", seed_method: Optional[str] = None, seed_inputs: str = "", seed_scale: Optional[float] = None, restarts: Optional[int] = None,
              hessian: Optional[str] = None, feasibility_hessian: Optional[str] = None,
              ipopt: Dict[str, str] = ..., print_level: int = 0,
-             tighten_within: Optional[float] = None, task_max_iter: Optional[int] = None,
+             tighten_within: Optional[float] = None, tighten_factor: Optional[float] = None,
+             task_max_iter: Optional[int] = None,
              penalty_iterations: Optional[int] = None, task_penalty: Optional[bool] = None,
              task_ipopt: Dict[str, str] = ..., hints: bool = True, require_feasible: bool = False,
              set: Parameters = ...) -> Solution: ...

@@ -843,6 +843,7 @@ OPTIONS = [
     ("optimize", "--seed-scale", ["-1", "nan", "inf", "abc"], ["0"], []),
     ("optimize", "--restarts", ["-1", "abc", "2.5"], ["0"], []),
     ("optimize", "--tighten-within", ["-1", "nan", "abc"], ["0"], []),
+    ("optimize", "--tighten-factor", ["-1", "nan", "inf", "abc"], ["1"], []),
     ("optimize", "--hessian", ["banana"], ["limited-memory"], []),
     ("optimize", "--print-level", ["-1", "13", "99", "abc"], ["0"], []),
     ("optimize", "--method", ["banana", ""], [], []),

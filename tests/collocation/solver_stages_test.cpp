@@ -10,7 +10,9 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <vector>
 
+#include "collocation/nlp.hpp"
 #include "collocation/problem_file.hpp"
 #include "collocation/seeding.hpp"
 #include "collocation/simulation_seed.hpp"
@@ -164,6 +166,62 @@ TEST(Solver, AFeasibilityStageStoppedByItsLimitIsTightened) {
   ASSERT_GT(early.stages[0].largest_product, 10 * p.complementarity_tolerance);
   EXPECT_EQ(early.stages.size(), 1u);
   EXPECT_FALSE(early.feasible);
+}
+
+// From products far above the tolerance the tightening bound is lowered in steps
+// (SolveOptions::tighten_factor). The near miss of the tests above (products of 1.5e-4) with a
+// factor of 1.2, so that it is far enough above the tolerance for a step: each step bounds
+// every ε by 0.9 × the products over 1.2 and stops at its first point within them, and the last
+// step, bounded by 0.9 × the tolerance, converges to the drop that lands at the analytic time.
+// With a factor of 1 the tightening is the one stage.
+TEST(Solver, TighteningFromFarAboveTheToleranceLowersTheBoundInSteps) {
+  const Problem p = nearMissDrop();
+  const double tolerance = p.complementarity_tolerance;
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  SolveOptions o;
+  o.tighten_factor = 1.2;
+  const SolveReport r = solve(t, seeding.seed, o);
+  ASSERT_GE(r.stages.size(), 3u);
+  const double start = r.stages[0].largest_product;
+  ASSERT_GT(start, 1.2 * tolerance);
+  EXPECT_EQ(r.stages[0].product_bound, 0.0);
+  double bound = start;  // the products' tolerance of the step before
+  for (std::size_t i = 1; i + 1 < r.stages.size(); ++i) {
+    const StageReport& step = r.stages[i];
+    EXPECT_EQ(step.name, "tighten");
+    // The lower of the last tolerance and the products reached, over the factor.
+    const double expected = std::min(bound, r.stages[i - 1].largest_product) / 1.2;
+    EXPECT_NEAR(step.product_bound, kPenaltyBoundFraction * expected, 1e-12 * expected) << "step " << i;
+    EXPECT_EQ(step.status, "Stopped_At_Feasible_Point") << "step " << i;
+    EXPECT_LE(step.largest_product, expected) << "step " << i;
+    EXPECT_LE(step.largest_violation, o.violation_tolerance) << "step " << i;
+    EXPECT_GT(expected, tolerance);
+    bound = expected;
+  }
+  const StageReport& last = r.stages.back();
+  EXPECT_EQ(last.name, "tighten");
+  EXPECT_EQ(last.product_bound, kPenaltyBoundFraction * tolerance);
+  EXPECT_EQ(last.status, "Solve_Succeeded");
+  EXPECT_TRUE(r.feasible);
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
+
+  // The steps' bounds are the NLP's: every ε of a step's problem is bounded by its bound.
+  Nlp step(t, Stage::Tighten, r.x);
+  step.boundProducts(0.25);
+  const int n = t.variables(), m = t.constraints();
+  std::vector<double> xl(n), xu(n), gl(m), gu(m);
+  ASSERT_TRUE(step.get_bounds_info(n, xl.data(), xu.data(), m, gl.data(), gu.data()));
+  ASSERT_FALSE(t.penaltyVariables().empty());
+  for (int e : t.penaltyVariables()) EXPECT_EQ(xu[e], 0.25);
+
+  o.tighten_factor = 1;
+  const SolveReport one = solve(t, seeding.seed, o);
+  ASSERT_EQ(one.stages.size(), 2u);
+  EXPECT_EQ(one.stages[1].product_bound, kPenaltyBoundFraction * tolerance);
 }
 
 // A task stage stopped by its iteration limit at a feasible point leaves a feasible, not

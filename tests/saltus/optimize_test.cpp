@@ -162,12 +162,16 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
   EXPECT_EQ(j.at("seed_solve").at("iterations").get<int>(), r.seed_solve->report.iterations);
   EXPECT_EQ(j.at("seed_solve").at("feasible").get<bool>(), r.seed_solve->feasible());
   EXPECT_EQ(j.at("iterations").get<int>(), r.report.iterations);
+  EXPECT_EQ(j.at("tighten_factor").get<double>(), 10.0);  // the default
   // Without a seed method, no such keys.
   EXPECT_FALSE(nlohmann::json::parse(saltus::summaryJson(*r.seed_solve)).contains("seed_solve"));
 
   saltus::OptimizeOptions same;
   same.seed_method = saltus::collocation::Method::Impulsive;
   EXPECT_EQ(adjustError(problem, same), "seed_method: expected another method than the solve's own (impulsive)");
+  saltus::OptimizeOptions factor;
+  factor.solve.tighten_factor = -1;
+  EXPECT_EQ(adjustError(problem, factor), "tighten_factor: expected a finite non-negative factor (at most 1: one step)");
   saltus::OptimizeOptions both = options;
   both.seed_from = "/some/solution";
   EXPECT_EQ(adjustError(problem, both).rfind("seed_method: not with seed_from", 0), 0u);

@@ -24,14 +24,17 @@ fs::path runnerScratch(const std::string& name) {
   return d;
 }
 
-// A "saltus" that says something on standard error and then dies by SIGKILL (as the kernel's
-// out-of-memory killer, or Slurm after its grace time, would end a solve).
-std::string killedProgram(const fs::path& dir) {
+// A stand-in "saltus": a shell script of `body` in `dir`, executable; returns its path.
+std::string fakeSaltus(const fs::path& dir, const std::string& body) {
   const fs::path p = dir / "fake_saltus";
-  std::ofstream(p) << "#!/bin/sh\necho 'solving...' >&2\nkill -KILL $$\n";
+  std::ofstream(p) << "#!/bin/sh\n" << body;
   fs::permissions(p, fs::perms::owner_all);
   return p.string();
 }
+
+// A "saltus" that says something on standard error and then dies by SIGKILL (as the kernel's
+// out-of-memory killer, or Slurm after its grace time, would end a solve).
+std::string killedProgram(const fs::path& dir) { return fakeSaltus(dir, "echo 'solving...' >&2\nkill -KILL $$\n"); }
 
 SweepSpec oneSolveSpec() {
   SweepSpec spec;
@@ -73,10 +76,7 @@ TEST(Runner, ASolveKilledFromOutsideHasAnErrorRecordLocallyAndNoneInASlurmTask) 
 
 // A "saltus" that appends its arguments to a file and ends without a solution (an error record).
 std::string loggingProgram(const fs::path& dir) {
-  const fs::path p = dir / "fake_saltus";
-  std::ofstream(p) << "#!/bin/sh\necho \"$*\" >> '" << (dir / "calls.txt").string() << "'\nexit 1\n";
-  fs::permissions(p, fs::perms::owner_all);
-  return p.string();
+  return fakeSaltus(dir, "echo \"$*\" >> '" + (dir / "calls.txt").string() + "'\nexit 1\n");
 }
 
 TEST(Runner, SolvesStartSeedBySeedAndAResumeRunsOnlyTheCasesWithoutARecord) {

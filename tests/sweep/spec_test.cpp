@@ -38,7 +38,7 @@ problems:
 methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
-options: {N: 10, restarts: 0, hints: false, tighten_within: 0, task_max_iter: 500, penalty_iterations: 300,
+options: {N: 10, restarts: 0, hints: false, tighten_within: 0, tighten_factor: 4, task_max_iter: 500, penalty_iterations: 300,
           task_penalty: true, feasibility_hessian: limited-memory,
           ipopt: {bound_push: 1e-6}, task_ipopt: {obj_scaling_factor: 10}}
 )",
@@ -62,7 +62,7 @@ options: {N: 10, restarts: 0, hints: false, tighten_within: 0, task_max_iter: 50
   const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0", "--no-hints",
-                                             "--tighten-within", "0", "--task-max-iter", "500",
+                                             "--tighten-within", "0", "--tighten-factor", "4", "--task-max-iter", "500",
                                              "--task-penalty", "on", "--penalty-iterations", "300",
                                              "--feasibility-hessian", "limited-memory", "--ipopt", "bound_push=1e-6",
                                              "--task-ipopt", "obj_scaling_factor=10", "--out", "OUT"};
@@ -162,6 +162,9 @@ TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
             std::string::npos);
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {N: 0}\n")
                 .find("options.N: expected an integer ≥ 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {tighten_factor: -2}\n")
+                .find("spec.yaml:4:27: options.tighten_factor: expected a finite non-negative factor (at most 1: one step)"),
             std::string::npos);
   const std::string hessian =
       errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {feasibility_hessian: bfgs}\n");
