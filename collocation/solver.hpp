@@ -116,8 +116,8 @@ struct SolveOptions {
   // bound, until the bound reaches the tolerance; the last step is the tightening stage above.
   // A step that fails leaves the last step from the point before it. ≤ 1: one step. On the
   // biped (μ = 1.6, perturbed seeds), from feasibility stages that ended at products of 0.22–200,
-  // one step was feasible on 6 of 16 (the others out of their 3,000 iterations 0.04–13 off the
-  // constraints), the steps on 6 of 7 (the first step 341–2,162 iterations, each later one
+  // one step was feasible on 6 of 16 (the others out of their 3,000 iterations 0.0025–13 off the
+  // constraints), the steps on 11 of 15 (the first step 341–2,162 iterations, each later one
   // 4–151) (README).
   double tighten_factor = 10;
   // Called at every Ipopt iteration (its intermediate callback); true stops the solve there
