@@ -41,7 +41,7 @@ Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipl
     x_upper_ = t.variableUpper();
     // ε ≤ the tolerance, less a margin: Ipopt meets A·B − ε ≤ 0 only to its constraint
     // tolerance, and a solution is judged by A·B ≤ tolerance (solver.hpp).
-    for (int e : t.penaltyVariables()) x_upper_[e] = kPenaltyBoundFraction * t.problem().complementarity_tolerance;
+    boundProducts(kPenaltyBoundFraction * t.problem().complementarity_tolerance);
   }
   const auto& blocks = t.blocks();
   // The task and penalty stages weigh each product in the cost with ε fixed (nlp.hpp): at its
