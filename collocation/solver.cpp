@@ -46,7 +46,7 @@ std::string ipoptStatusName(int status) {
 
 namespace {
 
-// Two process-wide settings for Ipopt with MUMPS, made once before the first solve:
+// Three process-wide settings for Ipopt with MUMPS, made once before the first solve:
 //
 // - MUMPS's dense kernels run in the system BLAS. Debian's OpenBLAS (pthreads) starts a thread
 //   per core whose idle loop spins on sched_yield: on the biped (13,322 variables, 60
@@ -59,15 +59,33 @@ namespace {
 //   faulted its pages in afresh and zeroed them (1.2 of 9.8 s in the kernel on the same 60
 //   iterations). Kept in the heap below 512 MB instead (freed memory is trimmed above 1 GB):
 //   9.8 s → 8.8 s. The process keeps its peak memory until it exits.
+// - Debian's MUMPS orders its matrices with SCOTCH 7, whose nested dissection runs a thread
+//   per core (SCOTCH_PTHREAD_NUMBER, its default). The threads' interleaving changes the
+//   ordering, so a solve of the monopod or the biped came out different at every run (iterates
+//   apart in the eighth digit by the sixth iteration; four runs, four different sequences):
+//   with one thread every run is the same, bit for bit, as with MUMPS's AMD or QAMD orderings,
+//   which cost the biped 35–45 % more per iteration (README). Unless the user's environment says
+//   otherwise. SCOTCH's random generator is also reset before every stage
+//   (resetOrderingRandomness): a second solve in the same process otherwise ordered from
+//   where the first left the generator, and ended 0.01–0.1 away after 12 iterations.
 void tuneProcessForSolves() {
   static const bool done = [] {
     using SetThreads = void (*)(int);
     if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
     mallopt(M_MMAP_THRESHOLD, 512 << 20);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    ::setenv("SCOTCH_PTHREAD_NUMBER", "1", /*overwrite=*/0);
     return true;
   }();
   (void)done;
+}
+
+// SCOTCH_randomReset, looked up at run time as OpenBLAS's call above: a MUMPS without SCOTCH
+// is left alone.
+void resetOrderingRandomness() {
+  using Reset = void (*)();
+  static const auto reset = reinterpret_cast<Reset>(dlsym(RTLD_DEFAULT, "SCOTCH_randomReset"));
+  if (reset) reset();
 }
 
 void setOption(Ipopt::IpoptApplication& app, const std::string& name, const std::string& value) {
@@ -170,6 +188,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
   tuneProcessForSolves();
+  resetOrderingRandomness();
 
   Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
   nlp->setInterruption(options.interrupted);

@@ -86,7 +86,10 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 # (NlpDerivatives.BipedStop*: about 1,000 variables, a Jacobian and a gradient per column) take 40
 # to 60 s each under ASan; the same constraint families run under ASan in NlpDerivatives.MonopodTurn*
 # (a floating base with stops, friction cones) and the smaller problems.
-asan_release_only='^(Solver\.(ContinuousSpreadsTheStopOverOneElement|PointMassThrowLandsSlidesAndStops|ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt)|Replay\.FirstOrderSolutionWithinItsOwnStepError|NlpDerivatives\.BipedStop(Impulsive|Continuous|FirstOrder))$'
+# Solver.TheSameSolveTwiceGivesTheSameIteratesBitForBit needs the full-size monopod (a small
+# problem's ordering is the same at every run anyway); what it checks is the process's settings
+# for MUMPS's ordering, not code ASan could fault.
+asan_release_only='^(Solver\.(ContinuousSpreadsTheStopOverOneElement|PointMassThrowLandsSlidesAndStops|ABlockThatWouldSlideOffTheDeckIsNotCarriedBeyondIt|TheSameSolveTwiceGivesTheSameIteratesBitForBit)|Replay\.FirstOrderSolutionWithinItsOwnStepError|NlpDerivatives\.BipedStop(Impulsive|Continuous|FirstOrder))$'
 if ! step "asan tests" run_ctest asan build-asan -E "$asan_release_only"; then finish; exit 1; fi
 
 finish
