@@ -409,9 +409,10 @@ TEST(Solver, IpoptDerivativeCheckerPassesOnTheBuiltinProblems) {
 }
 
 // The same solve twice in one process gives the same iterates, bit for bit: MUMPS's ordering
-// (SCOTCH) runs on one thread (solver.cpp, tuneProcessForSolves). With a thread per core the
-// monopod's iterates came apart in the eighth digit by the sixth iteration, differently at
-// every run; a small problem's ordering does not show it.
+// (SCOTCH) runs on one thread, its random generator reset before every stage (solver.cpp,
+// tuneProcessForSolves and resetOrderingRandomness). With a thread per core the monopod's
+// iterates came apart in the eighth digit by the sixth iteration, differently at every run;
+// without the reset the second solve ended elsewhere. A small problem's ordering shows neither.
 TEST(Solver, TheSameSolveTwiceGivesTheSameIteratesBitForBit) {
   Problem p = loadProblem("monopod_turn");
   p.exact_hessian = p.feasibility_exact_hessian = true;
