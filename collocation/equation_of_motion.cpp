@@ -6,6 +6,8 @@
 #include <algorithm>
 
 #include "dynamics/crba.hpp"
+#include "dynamics/derivatives.hpp"
+#include "dynamics/kinematics.hpp"
 
 namespace saltus::collocation {
 
@@ -152,12 +154,30 @@ void EquationOfMotion::jacobianColumns(const double* x, double* J) const {
   const int first_acceleration = (with_dynamics ? 2 : 1) * n;  // q̈ or Δq̇
   const auto& model = models->model<double>();
   auto& data = models->data<double>();
+  // q and q̇ of the dynamics: ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈), or of M(q) Δq̇ =
+  // RNEA(q, 0, Δq̇) without gravity at a jump; zero for a world translation. Or by AD (columnByAd),
+  // the others' columns zero.
+  const ConstMap<double> q(x, n);
+  if (qByRneaDerivatives()) {
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1> zero = Eigen::VectorXd::Zero(n);
+    auto& derivatives = models->rneaDerivatives(with_dynamics);
+    if (with_dynamics)
+      dynamics::rneaDerivatives(model, derivatives, q, ConstMap<double>(x + n, n), ConstMap<double>(x + 2 * n, n));
+    else
+      dynamics::rneaDerivatives(models->modelWithoutGravity<double>(), derivatives, q, zero,
+                                ConstMap<double>(x + n, n));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        J[i + j * n] = derivatives.dtau_dq(i, j);
+        if (with_dynamics) J[i + (n + j) * n] = derivatives.dtau_dv(i, j);
+      }
+  } else {
+    for (int i = 0; i < first_acceleration; ++i)
+      if (!columnByAd(i)) std::fill(J + i * n, J + (i + 1) * n, 0.0);
+  }
   // M(q): CRBA leaves data.X_up (and a multi-coordinate joint's S_i(q)); the poses the contact
   // layer needs are composed from them as in operator().
-  // The q and q̇ F does not depend on (columnByAd): zero columns.
-  for (int i = 0; i < (with_dynamics ? 2 : 1) * n; ++i)
-    if (!columnByAd(i)) std::fill(J + i * n, J + (i + 1) * n, 0.0);
-  const auto& M = dynamics::crba(model, data, ConstMap<double>(x, n));
+  const auto& M = dynamics::crba(model, data, q);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) J[i + (first_acceleration + j) * n] = M(i, j);
   for (int k = 0; k < inputs_count(); ++k) {
@@ -193,6 +213,38 @@ void EquationOfMotion::jacobianColumns(const double* x, double* J) const {
       unit[i] = 0.0;
     }
     k += 1 + c.k() + c.freeAxes();
+  }
+  if (qByRneaDerivatives()) addReactionColumns(x, J);
+}
+
+void EquationOfMotion::addReactionColumns(const double* x, double* J) const {
+  // −∂(Σ J_cᵀ f_c)/∂q, for the q some contact's Jacobian depends on, by AD through the
+  // kinematics and the contact layer (subtractReactions), kChunk columns a pass; the reactions
+  // enter as constants. Nothing else of F depends on q but RNEA (jacobianColumns).
+  const int n = nv(), first_reaction = (with_dynamics ? 3 : 2) * n + inputs_count();
+  int columns[kMaxCoordinates], count = 0;
+  for (int k = 0; k < n; ++k)
+    if (inReactions(k)) columns[count++] = k;
+  if (count == 0) return;
+  const auto& model = models->model<Dual>();
+  auto& data = models->data<Dual>();
+  const auto unseeded = Eigen::Matrix<double, kChunk, 1>::Zero();
+  Eigen::Matrix<Dual, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1> q(n), y(n);
+  for (int i = 0; i < n; ++i) q[i] = Dual(x[i], unseeded);
+  reactions_dual.resize(static_cast<std::size_t>(inputs() - first_reaction));
+  for (std::size_t i = 0; i < reactions_dual.size(); ++i)
+    reactions_dual[i] = Dual(x[first_reaction + static_cast<int>(i)], unseeded);
+  for (int first = 0; first < count; first += kChunk) {
+    const int chunk = std::min(kChunk, count - first);
+    for (int c = 0; c < chunk; ++c) q[columns[first + c]].derivatives()[c] = 1.0;
+    dynamics::forwardKinematics(model, data, ConstMap<Dual>(q.data(), n));
+    for (int i = 0; i < n; ++i) y[i] = Dual(0.0, unseeded);
+    subtractReactions(model, data, reactions_dual.data(), y.data());
+    for (int c = 0; c < chunk; ++c) {
+      double* column = J + columns[first + c] * n;
+      for (int i = 0; i < n; ++i) column[i] += y[i].derivatives()[c];
+      q[columns[first + c]].derivatives()[c] = 0.0;
+    }
   }
 }
 

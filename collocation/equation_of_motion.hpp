@@ -150,19 +150,36 @@ struct EquationOfMotion {
     if (a <= c.k()) return b == 0 && friction == FrictionForm::Activation;  // (t_a, r_n)
     return b <= c.k();                                                      // (s, r_n), (s, t_b); (s, s) is zero
   }
-  // The Jacobian by AD for the q and q̇ F depends on (the others' columns are zero) and a free
-  // point's s only; the columns of the inputs F is affine in, with coefficients of q (and the reactions)
-  // alone, in jacobianColumns (equation_of_motion.cpp):
+  // The Jacobian by AD for a free point's s; the other columns in jacobianColumns
+  // (equation_of_motion.cpp):
+  //   q, q̇: ∂τ/∂q, ∂τ/∂q̇ of RNEA (dynamics::rneaDerivatives, forward-mode AD of RBDA Table 5.1
+  //         on tangents), plus −∂(Σ J_cᵀ f_c)/∂q by AD through the kinematics and the contact layer
+  //         alone, for the q some contact's Jacobian depends on (ContactPair::reaction_jacobian_with)
   //   q̈ or Δq̇: M(q) (CRBA, RBDA Table 6.2)    u: −B    r_n, t_i: −J_cᵀ ∂f_c/∂r_n, −J_cᵀ ∂f_c/∂t_i
-  // (a stop's r_n: −sign e_i). For the biped that is 2 of 7 chunks of 8 in continuous time.
+  // (a stop's r_n: −sign e_i). When the q and q̇ F depends on fit in the chunks of AD that s
+  // needs anyway (a point mass on a board: the board's angle and rate), they go by AD with it;
+  // when there are none, no pass at all.
   bool columnByAd(int i) const {
     const int n = nv();
-    if (i < n) return dependsOn(i);                            // q
-    if (with_dynamics && i < 2 * n) return inDynamics(i - n);  // q̇
+    if (i < n) return !qByRneaDerivatives() && dependsOn(i);                                // q
+    if (with_dynamics && i < 2 * n) return !qByRneaDerivatives() && inDynamics(i - n);  // q̇
     const ContactInput in = contactInput(i);
     return in.pair && in.offset > in.pair->k();  // s
   }
+  // Whether jacobianColumns forms the q and q̇ columns (above): when by AD they would add a chunk
+  // to those s needs (none when F depends on no q, as for a point mass in the world).
+  bool qByRneaDerivatives() const {
+    if (q_by_rnea_derivatives < 0) {
+      int s = 0, q = 0;
+      for (const ContactPair& c : *contacts) s += c.freeAxes();
+      for (int k = 0; k < nv(); ++k) q += dependsOn(k) + (with_dynamics && inDynamics(k));
+      const auto chunks = [](int columns) { return (columns + kChunk - 1) / kChunk; };
+      q_by_rnea_derivatives = chunks(s + q) > chunks(s);
+    }
+    return q_by_rnea_derivatives > 0;
+  }
   void jacobianColumns(const double* x, double* J) const;
+  void addReactionColumns(const double* x, double* J) const;  // jacobianColumns' reactions over q
 
   template <class S>
   void operator()(const S* x, S* y) const {
@@ -182,8 +199,17 @@ struct EquationOfMotion {
                                     : dynamics::rnea(model, data, ConstMap<S>(q, n), zero, ConstMap<S>(a, n));
     for (int i = 0; i < n; ++i) y[i] = tau[i];
     dynamics::composeWorldPoses(model, data);
-    // − Σ J_cᵀ f_c, J_c the contact layer's relative Jacobian (contact::addReaction adds Jᵀ f:
-    // here with the reaction's opposite; − sign r_n on a stop's coordinate).
+    subtractReactions(model, data, r, y);
+    for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
+    if (with_dynamics)
+      for (int i = 0; i < constant_input.size(); ++i) y[i] -= S(constant_input[i]);
+  }
+
+  // y −= Σ_c J_cᵀ f_c, J_c the contact layer's relative Jacobian at the world poses in data
+  // (contact::addReaction adds Jᵀ f: here with the reaction's opposite; − sign r_n on a stop's
+  // coordinate). r: per contact, r_n, its k tangential variables and a free point's s.
+  template <class S>
+  void subtractReactions(const dynamics::Model<S>& model, dynamics::Data<S>& data, const S* r, S* y) const {
     for (const ContactPair& c : *contacts) {
       const S& rn = r[0];
       const Vec3<S> f_t = contactForce(c, data, friction, rn, r + 1, true);
@@ -193,10 +219,11 @@ struct EquationOfMotion {
         contact::addReaction(model, data, c, S(-rn), Vec3<S>(-f_t), y);
       r += 1 + c.k() + c.freeAxes();
     }
-    for (int k = 0; k < inputs_count(); ++k) y[actuated[k]] -= u[k];
-    if (with_dynamics)
-      for (int i = 0; i < constant_input.size(); ++i) y[i] -= S(constant_input[i]);
   }
+
+  // Scratch: the reactions' inputs in first-order duals, for jacobianColumns' pass over q.
+  mutable std::vector<Dual> reactions_dual;
+  mutable int q_by_rnea_derivatives = -1;  // qByRneaDerivatives, once known
 };
 
 // Instantiated once, in equation_of_motion.cpp (see AdFunction).

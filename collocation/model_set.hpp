@@ -1,12 +1,16 @@
 // The model and its workspaces for the three scalar types the local functions are evaluated in
 // (double, first-order duals, second-order duals over chunks of 8 and of 4; local_function.hpp), with and without gravity: the
-// impulsive equation of motion (6) is RNEA at zero velocity without gravity, M(q) q̈.
+// impulsive equation of motion (6) is RNEA at zero velocity without gravity, M(q) q̈; and the
+// workspaces of RNEA's derivatives (dynamics/derivatives.hpp) for the equations of motion's
+// Jacobian.
 #pragma once
 
+#include <memory>
 #include <tuple>
 
 #include "collocation/local_function.hpp"
 #include "dynamics/data.hpp"
+#include "dynamics/derivatives.hpp"
 #include "dynamics/model.hpp"
 
 namespace saltus::collocation {
@@ -25,6 +29,15 @@ class ModelSet {
   }
   // One workspace per scalar; the local functions run one at a time.
   template <class S> dynamics::Data<S>& data() const { return std::get<dynamics::Data<S>>(data_); }
+  // ∂τ/∂q and ∂τ/∂q̇ of RNEA for the model with or without gravity (dynamics::rneaDerivatives),
+  // made at the first use.
+  dynamics::DerivativeData<kChunk>& rneaDerivatives(bool with_gravity) const {
+    auto& d = derivatives_[with_gravity ? 1 : 0];
+    if (!d)
+      d = std::make_unique<dynamics::DerivativeData<kChunk>>(with_gravity ? model<double>()
+                                                                         : modelWithoutGravity<double>());
+    return *d;
+  }
 
  private:
   static dynamics::Model<double> withoutGravity(dynamics::Model<double> m) {
@@ -36,6 +49,7 @@ class ModelSet {
   Models models_, unforced_;
   mutable std::tuple<dynamics::Data<double>, dynamics::Data<Dual>, dynamics::Data<Dual2>, dynamics::Data<Dual2Small>>
       data_;
+  mutable std::unique_ptr<dynamics::DerivativeData<kChunk>> derivatives_[2];
 };
 
 }  // namespace saltus::collocation
