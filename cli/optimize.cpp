@@ -180,13 +180,19 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
               << (s.feasible ? "feasible" : "NOT feasible") << ", largest product " << s.largest_product << ", "
               << s.iterations << " iterations, " << s.wall_seconds << " s, counted above)\n";
   }
-  for (const HintReach& h : o.hints)
-    if (!h.reachable)
-      std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1
-                << "," << h.point << "]) cannot be met: that point lies between " << h.earliest << " and " << h.latest
-                << " s, and the unactuated motion closes " << h.contact
-                << (h.closes < 0 ? std::string(" never within the horizon") : " first at " + std::to_string(h.closes) + " s")
-                << "\n";
+  for (const HintReach& h : o.hints) {
+    if (h.reachable) continue;
+    const std::string closes = h.closes < 0 ? std::string("never within the horizon") : "first at " + std::to_string(h.closes) + " s";
+    std::cerr << "saltus optimize: the hint at " << h.origin << " (" << h.contact << " closed at [" << h.element + 1 << ","
+              << h.point << "]) ";
+    if (h.actuated)  // the inputs may close it where the unactuated motion does not
+      std::cerr << "is not met by the motion without inputs: that point lies between " << h.earliest << " and "
+                << h.latest << " s, and without inputs " << h.contact << " closes " << closes
+                << "; the inputs have to close it there\n";
+    else
+      std::cerr << "cannot be met: that point lies between " << h.earliest << " and " << h.latest << " s, and the motion closes "
+                << h.contact << " " << closes << "\n";
+  }
   return r.feasible ? 0 : 1;
 }
 

@@ -407,6 +407,7 @@ std::vector<HintReach> checkHints(const Transcription& t) {
     HintReach r;
     r.origin = b.origin;
     r.contact = t.contacts().at(b.quantity.index).name;
+    r.actuated = !p.inputs.empty();
     r.element = b.element;
     r.point = b.point;
     const double tau = r.point == 0 ? 0.0 : r.point > p.P ? 1.0 : LegendreGauss(p.P).tau[r.point - 1];

@@ -50,8 +50,9 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
 // problem's own motion: the mesh point can lie anywhere in [earliest, latest] (the element
 // lengths within their bounds), and the simulation from the initial state with the inputs at
 // zero (as for the seed) has the contact closed at some time in that window. For a problem
-// without inputs the simulation is the motion; with inputs, an unreachable hint is one the
-// unactuated motion does not reach. Other hints are not checked.
+// without inputs the simulation is the motion, and a hint it does not reach cannot be met; with
+// inputs (`actuated`), it is one the unactuated motion does not reach, which the inputs may
+// still bring about. Other hints are not checked.
 struct HintReach {
   std::string origin;   // where the hint was given
   std::string contact;
@@ -59,6 +60,7 @@ struct HintReach {
   double earliest = 0, latest = 0;
   double closes = -1;   // the first time the simulated contact is closed (−1: never)
   bool reachable = false;
+  bool actuated = false;  // the problem has inputs: the simulated motion is not the only one
 };
 std::vector<HintReach> checkHints(const Transcription& t);
 

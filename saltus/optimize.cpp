@@ -239,7 +239,8 @@ std::string summaryJson(const OptimizeResult& o) {
                           {"earliest", h.earliest},
                           {"latest", h.latest},
                           {"simulated_closing", h.closes},
-                          {"reachable", h.reachable}});
+                          {"reachable", h.reachable},
+                          {"actuated", h.actuated}});
   j["parameters"] = problem.parameters;
   return j.dump(2) + "\n";
 }

@@ -137,6 +137,18 @@ TEST(SimulationSeed, HintsAreCheckedAgainstTheUnactuatedMotion) {
     EXPECT_NEAR(r[0].latest, 8 * 0.02, 1e-12);
     EXPECT_NEAR(r[0].closes, std::sqrt(2 * height / kGravity), 1e-3);
     EXPECT_EQ(r[0].reachable, height == 0.1) << "height " << height;
+    EXPECT_FALSE(r[0].actuated);
+  }
+  // With inputs the unactuated motion is one of many: the Ollie's tail hint at [10, 0], which the
+  // board standing on its wheels never meets, is reported as one for the inputs to bring about.
+  {
+    const Problem ollie = loadProblem("ollie_simple");
+    const std::vector<HintReach> r = checkHints(Transcription(ollie, Method::Impulsive));
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].contact, "tail");
+    EXPECT_LT(r[0].closes, 0.0);
+    EXPECT_FALSE(r[0].reachable);
+    EXPECT_TRUE(r[0].actuated);
   }
   // A gap bound on every element is a condition, not a contact event: not checked.
   Problem p = testing::pointMassDrop(0.0, 0.1);

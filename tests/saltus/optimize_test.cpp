@@ -100,6 +100,7 @@ TEST(ApiOptimizeHints, AnUnreachableHintIsReportedAndDroppedByNoHints) {
   ASSERT_EQ(j.at("hints").size(), 1u);
   EXPECT_EQ(j.at("hints")[0].at("origin"), "test");
   EXPECT_FALSE(j.at("hints")[0].at("reachable").get<bool>());
+  EXPECT_FALSE(j.at("hints")[0].at("actuated").get<bool>());  // the drop has no inputs: it cannot be met
   options.hints = false;
   const saltus::OptimizeResult unhinted = saltus::optimize(p, options);
   EXPECT_TRUE(unhinted.feasible());
