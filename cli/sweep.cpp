@@ -193,8 +193,8 @@ int sweepCommand(const SweepOptions& opt) {
               << skipped.front().method << ", " << skipped.front().problem_name << ": " << skipped.front().reason
               << (skipped.size() > 1 ? "; ..." : "") << "); report.md lists them\n";
   if (opt.list) {
-    for (const SweepCase& c : cases) {
-      std::vector<std::string> args = c.optimizeArguments(spec.options, caseDirectory(opt.out, c) + "/solution");
+    for (const SweepCase* c : startOrder(cases)) {  // the order a run starts them in
+      std::vector<std::string> args = c->optimizeArguments(spec.options, caseDirectory(opt.out, *c) + "/solution");
       args.insert(args.begin(), "saltus");
       std::cout << shellCommand(args) << "\n";
     }
@@ -235,7 +235,7 @@ Command addSweepCommand(CLI::App& saltus) {
   app->add_option("spec", opt->spec, "sweep spec (.yaml): problems, methods, set, seeds, options");
   app->add_option("--out", opt->out, "output folder (runs/<id>/record.json, summary.csv/.json, report.md, charts/)");
   app->add_option("--jobs", opt->jobs, "solves at once (default: the number of cores)")->check(CLI::NonNegativeNumber);
-  app->add_flag("--list", opt->list, "print the saltus optimize command of every solve and stop");
+  app->add_flag("--list", opt->list, "print the saltus optimize command of every solve, in the order a run starts them, and stop");
   auto* slurm = app->add_option_group("Slurm", "Run the solves without a record as one Slurm job array");
   slurm->add_flag("--slurm", opt->slurm, "submit the solves without a record as one job array (sbatch) and return");
   slurm->add_option("--partition", opt->submit.partition, "Slurm partition (default: the cluster's)");

@@ -206,6 +206,14 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
   return r;
 }
 
+std::vector<const SweepCase*> startOrder(const std::vector<SweepCase>& cases) {
+  std::vector<const SweepCase*> order;
+  order.reserve(cases.size());
+  for (const SweepCase& c : cases) order.push_back(&c);
+  std::stable_sort(order.begin(), order.end(), [](const SweepCase* a, const SweepCase* b) { return a->seed < b->seed; });
+  return order;
+}
+
 RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
                    const RunnerOptions& options, const std::function<void(const Progress&)>& progress) {
   fs::create_directories(fs::path(out) / "runs");
@@ -215,17 +223,12 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
   std::vector<const SweepCase*> pending;
   Progress p;
   p.total = static_cast<int>(cases.size());
-  for (const SweepCase& c : cases) {
-    if (fs::exists(fs::path(caseDirectory(out, c)) / "record.json"))
+  for (const SweepCase* c : startOrder(cases)) {
+    if (fs::exists(fs::path(caseDirectory(out, *c)) / "record.json"))
       ++p.skipped;
     else
-      pending.push_back(&c);
+      pending.push_back(c);
   }
-  // Seed by seed: the first seeds of every cell before the next seeds of any, so that a sweep
-  // stopped part-way (a session's end, a time limit) has a look at each cell, and a resume
-  // goes on from there. Records and reports keep the grid's order.
-  std::stable_sort(pending.begin(), pending.end(),
-                   [](const SweepCase* a, const SweepCase* b) { return a->seed < b->seed; });
   p.done = p.skipped;
   for (const SweepRecord& r : readRecords(out, cases)) p.failed += !r.success();
 

@@ -73,7 +73,13 @@ std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<S
 SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,
                        const ReplayCheck& check);
 
-// Runs every case without a record; `progress` is called once before the first solve and after
+// The order a run starts the solves in: seed by seed, the first seeds of every cell before the
+// next seeds of any (the grid's order within a seed), so that a sweep stopped part-way (a
+// session's end, a time limit) has a look at each cell, and a resume goes on from there.
+// `saltus sweep --list` prints this order; records and reports keep the grid's.
+std::vector<const SweepCase*> startOrder(const std::vector<SweepCase>& cases);
+
+// Runs every case without a record (in startOrder); `progress` is called once before the first solve and after
 // each solve. Throws std::runtime_error when DIR is locked by another sweep or a child cannot start.
 RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, const std::string& out,
                    const RunnerOptions& options, const std::function<void(const Progress&)>& progress);

@@ -186,6 +186,13 @@ TEST(CliSweep, BadSpecIsRefusedBeforeAnySolve) {
                             "OUT/runs/point_mass_drop__first-order__seed=5/solution\n"),
             std::string::npos)
       << listed.out;
+  // In the order a run starts them: seed 1 of both methods before seed 5 of either.
+  const std::size_t first_order_1 = listed.out.find("--method first-order --seed 1 ");
+  const std::size_t impulsive_5 = listed.out.find("--method impulsive --seed 5 ");
+  ASSERT_NE(first_order_1, std::string::npos) << listed.out;
+  ASSERT_NE(impulsive_5, std::string::npos) << listed.out;
+  EXPECT_LT(first_order_1, impulsive_5) << listed.out;
+  EXPECT_LT(listed.out.find("--method impulsive --seed 1 "), listed.out.find('\n')) << listed.out;  // the grid's first
   fs::remove_all(dir);
 }
 
