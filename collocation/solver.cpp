@@ -277,6 +277,17 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     return "the " + s.name + " stage ended " + s.status + "; kept the best feasible point it evaluated (a trial of iteration " +
            std::to_string(s.kept_iteration) + ")";
   };
+  // Of two end points that are not feasible, whether a is nearer a trajectory than b: one that
+  // meets the constraints before one that does not, then the smaller products, or the smaller
+  // violation. A task stage stopped at its start, pushed inside its bounds (products 6.4,
+  // constraints 10.7 off on ollie_simple), is not kept in place of a local minimum of the penalty
+  // with the constraints met (products 1.8).
+  const auto nearer = [&](const StageReport& a, const StageReport& b) {
+    const bool a_met = a.largest_violation <= options.violation_tolerance;
+    const bool b_met = b.largest_violation <= options.violation_tolerance;
+    if (a_met != b_met) return a_met;
+    return a_met ? a.largest_product < b.largest_product : a.largest_violation < b.largest_violation;
+  };
   Eigen::VectorXd x = x0;
   Multipliers multipliers;
   std::size_t kept = 0;  // the stage whose point is the result
@@ -356,12 +367,17 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const Multipliers start = options.warm_start_multipliers && feasible ? multipliers : Multipliers{};
     report.stages.push_back(runStage(t, Stage::Task, x1, start, options, x, multipliers, report));
     const StageReport& second = report.stages.back();
-    if (feasibleEnd(second) || !feasible || report.interrupted) {
+    if (feasibleEnd(second) || report.interrupted || (!feasible && nearer(second, report.stages[kept]))) {
       kept = report.stages.size() - 1;
       if (second.kept_iteration >= 0) {
         t.tightenMaxVariable(x);
         report.note = keptNote(second);
       }
+    } else if (!feasible) {
+      // Neither point is feasible: the earlier one is the nearer (a seed to continue from).
+      x = x1;
+      report.note += std::string(report.note.empty() ? "" : "; ") + "the task stage ended " + second.status +
+                     " no nearer a feasible point; kept the " + report.stages[kept].name + " stage's point";
     } else {
       // The earlier stage's point satisfies every constraint of the problem (hints only add
       // bounds): a valid trajectory, whose task cost the failed stage did not minimise.

@@ -75,6 +75,27 @@ void expectTightenedDrop(const Transcription& t, const SolveReport& r) {
   checkDrop(s, 0.0);
 }
 
+// The point x of t as a point of task (t's problem with a cost on the largest height), carried
+// over by variable name, with x_m the largest height in it.
+Eigen::VectorXd withMaxVariable(const Transcription& t, const Eigen::VectorXd& x, const Transcription& task) {
+  std::map<std::string, int> index;
+  const auto names = t.variableNames();
+  for (int i = 0; i < t.variables(); ++i) index[names[i]] = i;
+  EXPECT_EQ(index.size(), names.size());
+  Eigen::VectorXd task_x = Eigen::VectorXd::Zero(task.variables());
+  const auto task_names = task.variableNames();
+  for (int i = 0; i < task.variables(); ++i) {
+    const auto it = index.find(task_names[i]);
+    if (it != index.end()) {
+      task_x[i] = x[it->second];
+    } else {
+      EXPECT_EQ(task_names[i], "x_max");
+    }
+  }
+  task.tightenMaxVariable(task_x);
+  return task_x;
+}
+
 TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
@@ -102,21 +123,7 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   p.cost.max_coordinate = 0;
   p.cost.max_weight = 1.0;
   const Transcription task(p, Method::Impulsive);
-  std::map<std::string, int> index;
-  const auto names = t.variableNames();
-  for (int i = 0; i < t.variables(); ++i) index[names[i]] = i;
-  ASSERT_EQ(index.size(), names.size());
-  Eigen::VectorXd task_seed = Eigen::VectorXd::Zero(task.variables());
-  const auto task_names = task.variableNames();
-  for (int i = 0; i < task.variables(); ++i) {
-    const auto it = index.find(task_names[i]);
-    if (it != index.end()) {
-      task_seed[i] = near.x[it->second];
-    } else {
-      ASSERT_EQ(task_names[i], "x_max");
-    }
-  }
-  task.tightenMaxVariable(task_seed);
+  const Eigen::VectorXd task_seed = withMaxVariable(t, near.x, task);
   const SolveReport c = solve(task, [&](int) { return Seed{task_seed, true}; }, SolveOptions{});
   ASSERT_EQ(c.stages.size(), 3u);
   EXPECT_EQ(c.stages[0].name, "feasibility");
@@ -133,6 +140,39 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_FALSE(c.interrupted);
   EXPECT_TRUE(c.converged) << c.stages[2].status << ": " << c.note;
   EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
+}
+
+// When no stage ends feasible, the result is the point nearest a trajectory, not the last
+// stage's. The near miss above (products 1.5e-4, constraints met), untightened, with a task stage
+// stopped at its start pushed 0.1 inside its bounds (every reaction and ε at least 0.1: products
+// of at least 1e-2): the feasibility stage's point is kept, and said so.
+TEST(Solver, WithoutAFeasiblePointTheNearerStageEndIsKept) {
+  Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions without;
+  without.tighten_within = 0;
+  const SolveReport near = solve(t, makeSeeding(t).seed, without);
+  ASSERT_FALSE(near.feasible);
+  ASSERT_EQ(near.stages.size(), 1u);
+  ASSERT_TRUE(near.stages[0].succeeded) << near.stages[0].status;
+
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  const Transcription task(p, Method::Impulsive);
+  const Eigen::VectorXd task_seed = withMaxVariable(t, near.x, task);
+  SolveOptions o = without;
+  o.task_ipopt = {{"max_iter", "0"}, {"bound_push", "0.1"}, {"bound_frac", "0.1"}};
+  const SolveReport r = solve(task, [&](int) { return Seed{task_seed, true}; }, o);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[1].name, "task");
+  EXPECT_EQ(r.stages[1].iterations, 0);
+  EXPECT_GE(r.stages[1].largest_product, 1e-2);
+  EXPECT_LE(r.stages[0].largest_product, 10 * p.complementarity_tolerance);
+  EXPECT_FALSE(r.feasible);
+  // The result's products are measured at its point x: the feasibility stage's end.
+  EXPECT_EQ(r.largest_product, r.stages[0].largest_product);
+  EXPECT_EQ(r.largest_violation, r.stages[0].largest_violation);
+  EXPECT_NE(r.note.find("kept the feasibility stage's point"), std::string::npos) << r.note;
 }
 
 // A feasibility stage stopped by its iteration limit short of the tolerance is tightened too. The
