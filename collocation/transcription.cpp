@@ -56,6 +56,8 @@ Transcription::Transcription(const Problem& problem, Method method)
   applyBounds();
 }
 
+const std::string& Transcription::coordinate(int i) const { return problem_.scene.model.coordinate_name[i]; }
+
 void Transcription::buildContacts() { contacts_ = contact::contactPairs(problem_.scene); }
 
 int Transcription::addVariables(int count, double lower, double upper, const std::string& name) {
@@ -218,7 +220,7 @@ void Transcription::buildElementConstraints(int n) {
         auto rate = [&](int p) { return kind == 0 ? L.points[p].v + i : L.points[p].accel_or_jump + i; };
         std::vector<int> vars = {var(target), var(0), L.h};
         for (int p : L.collocation) vars.push_back(rate(p));
-        addBlock(f, vars, 0, 0, std::string(kind == 0 ? "int.q" : "int.v") + name + "." + std::to_string(i));
+        addBlock(f, vars, 0, 0, std::string(kind == 0 ? "int.q" : "int.v") + name + "." + coordinate(i));
       }
   };
   if (first_order) {
@@ -232,13 +234,13 @@ void Transcription::buildElementConstraints(int n) {
     const ElementLayout& prev = layout_[n - 1];
     for (int i = 0; i < nv_; ++i) {
       addLinearEquality({L.points[0].q + i, prev.points[prev.end].q + i}, Eigen::Vector2d(1, -1), 0,
-                        "cont.q" + at(n, 0) + "." + std::to_string(i));
+                        "cont.q" + at(n, 0) + "." + coordinate(i));
       if (L.points[0].accel_or_jump >= 0)
         addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i, L.points[0].accel_or_jump + i},
-                          Eigen::Vector3d(1, -1, -1), 0, "jump.v" + at(n, 0) + "." + std::to_string(i));
+                          Eigen::Vector3d(1, -1, -1), 0, "jump.v" + at(n, 0) + "." + coordinate(i));
       else
         addLinearEquality({L.points[0].v + i, prev.points[prev.end].v + i}, Eigen::Vector2d(1, -1), 0,
-                          "cont.v" + at(n, 0) + "." + std::to_string(i));
+                          "cont.v" + at(n, 0) + "." + coordinate(i));
     }
   }
   // Equations of motion at the collocation points, and (6) at an impulsive [n, 0].
@@ -265,8 +267,9 @@ void Transcription::buildElementConstraints(int n) {
       for (int i = 0; i < contacts_[c].k(); ++i) vars.push_back(L.contacts[c].tangential[p] + i);
       for (int i = 0; i < contacts_[c].freeAxes(); ++i) vars.push_back(L.contacts[c].s[p] + i);
     }
-    addBlock(f, vars, 0, 0,
-             (with_dynamics ? "eom" : "impulse") + at(n, p));
+    const std::string name = (with_dynamics ? "eom" : "impulse") + at(n, p);
+    const int row = blocks_[addBlock(f, vars, 0, 0, name)].row;
+    for (int i = 0; i < nv_; ++i) g_names_[row + i] = name + "." + coordinate(i);  // a row per coordinate
   };
   for (int p : L.collocation) eom(p, true);
   if (L.points[0].accel_or_jump >= 0) eom(0, false);

@@ -178,6 +178,8 @@ class Transcription {
 
  private:
   int addVariables(int count, double lower, double upper, const std::string& name);
+  // The name of velocity coordinate i (the model's), in constraint names: "int.v[6,3].board_theta".
+  const std::string& coordinate(int i) const;
   int addBlock(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, double lower, double upper,
                const std::string& name);
   void addCost(std::shared_ptr<const LocalFunction> f, std::vector<int> vars, CostGroup group);

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -99,6 +101,43 @@ TEST(Transcription, PenaltyWeightsMidAirImpulsesAndImpulsesOffTheirPoint) {
     }
     EXPECT_EQ(heavy > 0, method == Method::Impulsive) << toString(method);
     EXPECT_GT(on_point, 0) << toString(method);
+  }
+}
+
+// Rows per coordinate are named by the model's coordinate (`int.v[2,1].rknee`, `eom[1,2].base_z`),
+// every name once, and each is that coordinate's row: a continuity row `cont.q[n,0].c` is +1 on
+// q[n, 0] of c and an integration row `int.v[n,p].c` depends on q̇[n, p] of c (the Jacobian at a
+// random point).
+TEST(Transcription, RowsPerCoordinateAreNamedByTheirCoordinate) {
+  for (Method method : {Method::Impulsive, Method::FirstOrder}) {
+    const Problem biped = smallLegged("biped_stop", 2);
+    const Transcription t(biped, method);
+    const auto& model = biped.scene.model;
+    const auto& rows = t.constraintNames();
+    const auto& vars = t.variableNames();
+    std::map<std::string, int> column;
+    for (int i = 0; i < t.variables(); ++i) column[vars[i]] = i;
+    EXPECT_EQ(std::set<std::string>(rows.begin(), rows.end()).size(), rows.size()) << toString(method);
+    Nlp nlp(t, Stage::Task, t.nullSeed());
+    const Eigen::MatrixXd J = nlp.jacobian(testing::randomPoint(t, 3));
+    std::map<std::string, int> per_family;
+    for (int r = 0; r < t.constraints(); ++r) {
+      const std::string& name = rows[r];
+      const std::string family = name.substr(0, name.find('['));
+      if (family != "int.q" && family != "int.v" && family != "cont.q" && family != "cont.v" && family != "jump.v" &&
+          family != "eom" && family != "impulse")
+        continue;
+      const std::string point = name.substr(family.size(), name.rfind('.') - family.size());  // "[n,p]"
+      const std::string coordinate = name.substr(name.rfind('.') + 1);
+      const auto it = std::find(model.coordinate_name.begin(), model.coordinate_name.end(), coordinate);
+      ASSERT_NE(it, model.coordinate_name.end()) << name;
+      const std::string index = std::to_string(it - model.coordinate_name.begin());
+      ++per_family[family];
+      if (family == "cont.q") EXPECT_EQ(J(r, column.at("q" + point + "." + index)), 1.0) << name;
+      if (family == "int.v") EXPECT_NE(J(r, column.at("v" + point + "." + index)), 0.0) << name;
+    }
+    for (const char* f : {"int.q", "int.v", "cont.q", "eom"}) EXPECT_GT(per_family[f], 0) << toString(method) << " " << f;
+    EXPECT_EQ(per_family["eom"] % model.nv(), 0) << toString(method);
   }
 }
 
