@@ -222,7 +222,7 @@ struct EquationOfMotion {
   }
 
   // Scratch: the reactions' inputs in first-order duals, for jacobianColumns' pass over q.
-  mutable std::vector<Dual> reactions_dual;
+  mutable std::vector<Dual> reactions_dual{};
   mutable int q_by_rnea_derivatives = -1;  // qByRneaDerivatives, once known
 };
 

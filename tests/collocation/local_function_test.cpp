@@ -201,7 +201,7 @@ TEST(AdFunction, DeclaredLinearInputsOllie) {
       ++eoms;
       for (int k = 0; k < model.nv(); ++k)
         EXPECT_EQ(eom->functor().dependsOn(k), !dynamics::isWorldTranslation(model, k)) << k;
-      if (!eom->functor().with_dynamics) EXPECT_EQ(eom->jacobianSweeps(), 1);
+      if (!eom->functor().with_dynamics) { EXPECT_EQ(eom->jacobianSweeps(), 1); }
     }
   EXPECT_GT(eoms, 0);
 }
@@ -231,7 +231,7 @@ TEST(AdFunction, DeclaredLinearInputsLegged) {
         int reaction_columns = 0;
         for (int k = 0; k < model.nv(); ++k) {
           reaction_columns += eom->functor().inReactions(k);
-          if (dynamics::isWorldTranslation(model, k)) EXPECT_FALSE(eom->functor().inReactions(k)) << name << " " << k;
+          if (dynamics::isWorldTranslation(model, k)) { EXPECT_FALSE(eom->functor().inReactions(k)) << name << " " << k; }
         }
         EXPECT_GT(reaction_columns, 0) << name;
       }

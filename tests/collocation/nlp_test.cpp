@@ -323,7 +323,7 @@ TEST(Nlp, ThePenaltyStageLeavesTheProductsOutAndWeighsThemInTheCost) {
   penalty.eval_g(n, x.data(), true, m, g.data());
   double penalty_cost = 0;
   for (int i = 0, k = 0; i < t.constraints(); ++i)
-    if (!is_product[i]) EXPECT_EQ(g[k++], g_all[i]) << t.constraintNames()[i];
+    if (!is_product[i]) { EXPECT_EQ(g[k++], g_all[i]) << t.constraintNames()[i]; }
   for (std::size_t i = 0; i < products; ++i) {
     const int row = t.blocks()[t.productBlocks()[i]].row;
     penalty_cost += t.penaltyWeights()[i] * (g_all[row] + x[t.penaltyVariables()[i]]);  // A·B − ε + ε

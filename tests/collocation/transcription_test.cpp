@@ -133,8 +133,8 @@ TEST(Transcription, RowsPerCoordinateAreNamedByTheirCoordinate) {
       ASSERT_NE(it, model.coordinate_name.end()) << name;
       const std::string index = std::to_string(it - model.coordinate_name.begin());
       ++per_family[family];
-      if (family == "cont.q") EXPECT_EQ(J(r, column.at("q" + point + "." + index)), 1.0) << name;
-      if (family == "int.v") EXPECT_NE(J(r, column.at("v" + point + "." + index)), 0.0) << name;
+      if (family == "cont.q") { EXPECT_EQ(J(r, column.at("q" + point + "." + index)), 1.0) << name; }
+      if (family == "int.v") { EXPECT_NE(J(r, column.at("v" + point + "." + index)), 0.0) << name; }
     }
     for (const char* f : {"int.q", "int.v", "cont.q", "eom"}) EXPECT_GT(per_family[f], 0) << toString(method) << " " << f;
     EXPECT_EQ(per_family["eom"] % model.nv(), 0) << toString(method);

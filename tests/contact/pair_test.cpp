@@ -110,7 +110,7 @@ TEST(ContactPairs, JacobianWithLeavesOutTheWorldTranslations) {
         EXPECT_LT((l2.J - 2 * l1.J + l0.J).norm(), 1e-12 * scale) << what;
         EXPECT_LT((l1.normal - l0.normal).norm(), 1e-14) << what;
         EXPECT_NEAR(l2.gap - 2 * l1.gap + l0.gap, 0.0, 1e-12) << what;
-        if (pair.body_b >= 0) EXPECT_LT((l2.s - 2 * l1.s + l0.s).norm(), 1e-12) << what;
+        if (pair.body_b >= 0) { EXPECT_LT((l2.s - 2 * l1.s + l0.s).norm(), 1e-12) << what; }
       }
     }
   }

@@ -31,7 +31,7 @@ TEST(Ltl, FactorsTheMassMatrixWithItsSparsity) {
         for (int j = 0; j < i; ++j) {
           bool ancestor = false;
           for (int k = model.parent_coordinate[i]; k >= 0; k = model.parent_coordinate[k]) ancestor |= k == j;
-          if (!ancestor) EXPECT_EQ(L(i, j), 0.0) << i << " " << j;
+          if (!ancestor) { EXPECT_EQ(L(i, j), 0.0) << i << " " << j; }
         }
       // Solves against the dense Cholesky factorisation.
       const Eigen::VectorXd b = testing::randomVector(rng, n, 2.0);
@@ -49,7 +49,7 @@ TEST(Ltl, FactorsTheMassMatrixWithItsSparsity) {
       Eigen::VectorXd z = path;
       solveLtlTranspose(model, F, z.data());
       for (int k = 0; k < n; ++k)
-        if (path[k] == 0) EXPECT_EQ(z[k], 0.0);
+        if (path[k] == 0) { EXPECT_EQ(z[k], 0.0); }
     }
   }
 }

@@ -159,7 +159,7 @@ TEST(Analytic, StepperOnNewtonsCradle) {
     const std::vector<double> v = cradleVelocities(e, 1.0);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(sim.v()[i], v[i], 1e-12) << i;
     EXPECT_NEAR(sim.v().sum(), 1.0, 1e-12);  // momentum / (m v)
-    if (e == 1.0) EXPECT_NEAR(sim.energy(), E0, 1e-14);
+    if (e == 1.0) { EXPECT_NEAR(sim.energy(), E0, 1e-14); }
   }
   const Scene apart = scene::loadScene("newtons_cradle", {{"spacing", 1e-3}});
   StepperOptions o;

@@ -106,7 +106,7 @@ TEST_P(EngineFace, TheSkateboardStandsOnItsWheels) {
   // mass ratio of 15 between a foot and the board accumulates): 4 mm after 0.5 s, against 8 mm here.
   const double sink = GetParam() == EngineKind::Saltus ? 1e-8 : GetParam() == EngineKind::Mujoco ? 1e-3 : 8e-3;
   EXPECT_LT((engine->q() - scene.q0).cwiseAbs().maxCoeff(), sink) << engine->q().transpose();
-  if (GetParam() != EngineKind::Bullet) EXPECT_LT((engine->q() - settled).cwiseAbs().maxCoeff(), 1e-4) << "creeping";
+  if (GetParam() != EngineKind::Bullet) { EXPECT_LT((engine->q() - settled).cwiseAbs().maxCoeff(), 1e-4) << "creeping"; }
   EXPECT_EQ(engine->failures(), 0);
 }
 
