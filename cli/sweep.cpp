@@ -101,8 +101,8 @@ std::string report(const std::string& spec_file, const std::vector<SweepCase>& c
   for (const CellSummary& c : cells) {
     std::string parameters;
     for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : ", ") + name + " = " + formatValue(value);
-    md << "| " << c.problem_name << " | " << c.method << " | " << (parameters.empty() ? "–" : parameters) << " | "
-       << c.successes << "/" << c.solves << " (" << std::lround(100 * c.success_rate) << " %) | " << c.feasible << " | "
+    md << "| " << c.problem_name << " | " << c.method << (c.variant.empty() ? "" : " [" + c.variant + "]") << " | "
+       << (parameters.empty() ? "–" : parameters) << " | " << c.successes << "/" << c.solves << " (" << std::lround(100 * c.success_rate) << " %) | " << c.feasible << " | "
        << c.converged << " | " << c.physical << " | " << quartileText(c.wall_seconds) << " | " << quartileText(c.iterations) << " | "
        << quartileText(c.mean_local_error, 2) << " | " << quartileText(c.objective, 3) << " |\n";
   }
@@ -194,7 +194,7 @@ int sweepCommand(const SweepOptions& opt) {
               << (skipped.size() > 1 ? "; ..." : "") << "); report.md lists them\n";
   if (opt.list) {
     for (const SweepCase* c : startOrder(cases)) {  // the order a run starts them in
-      std::vector<std::string> args = c->optimizeArguments(spec.options, caseDirectory(opt.out, *c) + "/solution");
+      std::vector<std::string> args = c->optimizeArguments(caseDirectory(opt.out, *c) + "/solution");
       args.insert(args.begin(), "saltus");
       std::cout << shellCommand(args) << "\n";
     }

@@ -437,7 +437,7 @@ SWEEP_METRICS = {
 
 
 def sweep_chart(metric, args):
-    """Per cell (problem and parameter values) and method, over the successful solves: the range
+    """Per cell (problem and parameter values) and method (with its variant), over the successful solves: the range
     (thin line), the interquartile range (thick line), the mean (circle, the paper's marker) and
     the median (tick), in the style of the paper's Figs. 6-8. Cost is normalised per case (problem, parameters, seed) by the lowest cost
     any method reached there, as in Fig. 8, when there are several methods and every cost is
@@ -459,6 +459,9 @@ def sweep_chart(metric, args):
         params = ", ".join("%s=%g" % (k, v) for k, v in sorted(r["set"].items()))
         return r["problem_name"] + (" (" + params + ")" if params else "")
 
+    def series_of(r):  # the method, and the spec's variant when it has them
+        return r["method"] + (" [" + r["variant"] + "]" if r.get("variant") else "")
+
     cases = []
     for r in every:
         c = case_of(r)
@@ -466,8 +469,8 @@ def sweep_chart(metric, args):
             cases.append(c)
     methods = []
     for r in every:
-        if r["method"] not in methods:
-            methods.append(r["method"])
+        if series_of(r) not in methods:
+            methods.append(series_of(r))
     values = {}
     normalised = False
     if metric == "cost":
@@ -478,12 +481,12 @@ def sweep_chart(metric, args):
         normalised = len(methods) > 1 and records and all(r[key] > 0 for r in records)
         for r in records:
             v = r[key] / best[(case_of(r), r["seed"])] if normalised else r[key]
-            values.setdefault((case_of(r), r["method"]), []).append(v)
+            values.setdefault((case_of(r), series_of(r)), []).append(v)
         if normalised:
             label = "cost / lowest cost of any method on the same case"
     else:
         for r in records:
-            values.setdefault((case_of(r), r["method"]), []).append(r[key])
+            values.setdefault((case_of(r), series_of(r)), []).append(r[key])
 
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     fig, ax = plt.subplots(figsize=(8, 1.2 + 0.45 * len(cases) * max(1, len(methods)) ** 0.5))

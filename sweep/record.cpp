@@ -16,6 +16,7 @@ nlohmann::ordered_json toJson(const SweepRecord& r) {
   j["problem_name"] = r.problem_name;
   j["method"] = r.method;
   j["set"] = r.set;
+  if (!r.variant.empty()) j["variant"] = r.variant;
   j["seed"] = r.seed;
   j["command"] = r.command;
   j["exit_code"] = r.exit_code;
@@ -52,6 +53,7 @@ SweepRecord recordFromJson(const nlohmann::json& j) {
     r.problem_name = get("problem_name").get<std::string>();
     r.method = get("method").get<std::string>();
     r.set = get("set").get<std::map<std::string, double>>();
+    r.variant = j.value("variant", std::string());
     r.seed = get("seed").get<unsigned>();
     r.command = get("command").get<std::string>();
     r.exit_code = get("exit_code").get<int>();
@@ -112,6 +114,7 @@ std::vector<CellSummary> summarise(const std::vector<SweepRecord>& records) {
     c.problem_name = r.problem_name;
     c.method = r.method;
     c.set = r.set;
+    c.variant = r.variant;
     return c.cell();
   };
   std::map<std::string, std::size_t> index;
@@ -122,6 +125,7 @@ std::vector<CellSummary> summarise(const std::vector<SweepRecord>& records) {
       cells.back().summary.problem_name = r.problem_name;
       cells.back().summary.method = r.method;
       cells.back().summary.set = r.set;
+      cells.back().summary.variant = r.variant;
     }
     Cell& c = cells[it->second];
     ++c.summary.solves;
@@ -185,14 +189,14 @@ nlohmann::ordered_json toJson(const Quartiles& q) {
 
 std::string summaryCsv(const std::vector<CellSummary>& cells) {
   std::ostringstream csv;
-  csv << "problem,method,parameters,solves,feasible,converged,physical,successes,success_rate,wall_all_median";
+  csv << "problem,method,parameters,variant,solves,feasible,converged,physical,successes,success_rate,wall_all_median";
   for (const auto& [name, member] : kStatistics)
     for (const char* q : {"min", "q1", "median", "q3", "max"}) csv << "," << name << "_" << q;
   csv << "\n";
   for (const CellSummary& c : cells) {
     std::string parameters;
     for (const auto& [name, value] : c.set) parameters += (parameters.empty() ? "" : " ") + name + "=" + formatValue(value);
-    csv << field(c.problem_name) << "," << c.method << "," << field(parameters) << "," << c.solves << "," << c.feasible << ","
+    csv << field(c.problem_name) << "," << c.method << "," << field(parameters) << "," << c.variant << "," << c.solves << "," << c.feasible << ","
         << c.converged << "," << c.physical << "," << c.successes << "," << number(c.success_rate) << "," << number(c.wall_all.median);
     for (const auto& [name, member] : kStatistics) {
       const Quartiles& q = c.*member;
@@ -211,6 +215,7 @@ nlohmann::ordered_json summaryJson(const std::vector<CellSummary>& cells, const 
     cell["problem"] = c.problem_name;
     cell["method"] = c.method;
     cell["set"] = c.set;
+    if (!c.variant.empty()) cell["variant"] = c.variant;
     cell["solves"] = c.solves;
     cell["feasible"] = c.feasible;
     cell["converged"] = c.converged;

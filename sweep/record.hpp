@@ -23,6 +23,7 @@ namespace saltus::sweep {
 struct SweepRecord {
   std::string id, problem, problem_name, method;
   std::map<std::string, double> set;
+  std::string variant;  // the spec's variant (empty: none)
   unsigned seed = 0;
   std::string command;  // the saltus optimize command that reproduces the solve
   int exit_code = 0;    // of saltus optimize (0 feasible, 1 not feasible or an error)
@@ -59,13 +60,14 @@ Quartiles quartiles(std::vector<double> values);
 struct CellSummary {
   std::string problem_name, method;
   std::map<std::string, double> set;
+  std::string variant;
   int solves = 0, feasible = 0, converged = 0, physical = 0, successes = 0;
   double success_rate = 0;
   Quartiles wall_all;  // wall seconds over every solve
   Quartiles wall_seconds, iterations, mean_local_error, objective;  // over the successful solves
 };
 
-// One cell per (problem, method, parameter values), in the order of their first record.
+// One cell per (problem, method, parameter values, variant), in the order of their first record.
 std::vector<CellSummary> summarise(const std::vector<SweepRecord>& records);
 
 std::string summaryCsv(const std::vector<CellSummary>& cells);

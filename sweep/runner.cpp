@@ -170,6 +170,7 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
   r.problem_name = c.problem_name;
   r.method = c.method;
   r.set = c.set;
+  r.variant = c.variant;
   r.seed = c.seed;
   r.physical_required = c.physical_required;
   r.command = command;
@@ -260,7 +261,7 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
         const std::string dir = caseDirectory(out, c);
         fs::remove_all(dir);  // what a killed run left
         fs::create_directories(dir);
-        const std::vector<std::string> args = c.optimizeArguments(spec.options, (fs::path(dir) / "solution").string());
+        const std::vector<std::string> args = c.optimizeArguments((fs::path(dir) / "solution").string());
         std::vector<std::string> shown = {"saltus"};
         shown.insert(shown.end(), args.begin(), args.end());
         const pid_t pid = spawn(options.saltus, args, (fs::path(dir) / "optimize.log").string());

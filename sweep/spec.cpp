@@ -1,5 +1,7 @@
 #include "sweep/spec.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <limits>
 #include <cmath>
@@ -63,68 +65,71 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
   return (fs::path(spec_file).parent_path() / path).lexically_normal().string();
 }
 
-void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o) {
-  r.checkMap(n, "options", {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+// The options at `where` ("options", or "variants.NAME": what a variant changes) into o: each key
+// given replaces o's, and ipopt and task_ipopt entries are added to o's.
+void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std::string& where) {
+  const std::string prefix = where + ".";
+  r.checkMap(n, where, {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
-  if (n["N"]) o.N = positiveInteger(r, n["N"], "options.N", 1);
+  if (n["N"]) o.N = positiveInteger(r, n["N"], prefix + "N", 1);
   if (n["P"]) {
-    o.P = positiveInteger(r, n["P"], "options.P", 1);
-    if (*o.P > 9) r.fail(n["P"], "options.P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
+    o.P = positiveInteger(r, n["P"], prefix + "P", 1);
+    if (*o.P > 9) r.fail(n["P"], prefix + "P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
   }
-  if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], "options.restarts", 0);
-  if (n["hints"]) o.hints = r.boolean(n["hints"], "options.hints");
+  if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], prefix + "restarts", 0);
+  if (n["hints"]) o.hints = r.boolean(n["hints"], prefix + "hints");
   if (n["seed_scale"]) {
-    o.seed_scale = r.number(n["seed_scale"], "options.seed_scale");
-    if (*o.seed_scale < 0) r.fail(n["seed_scale"], "options.seed_scale", "expected a non-negative number");
+    o.seed_scale = r.number(n["seed_scale"], prefix + "seed_scale");
+    if (*o.seed_scale < 0) r.fail(n["seed_scale"], prefix + "seed_scale", "expected a non-negative number");
   }
   if (n["tighten_within"]) {
-    o.tighten_within = r.number(n["tighten_within"], "options.tighten_within");
+    o.tighten_within = r.number(n["tighten_within"], prefix + "tighten_within");
     if (!(*o.tighten_within >= 0))
-      r.fail(n["tighten_within"], "options.tighten_within", "expected a non-negative ratio (0: never tighten)");
+      r.fail(n["tighten_within"], prefix + "tighten_within", "expected a non-negative ratio (0: never tighten)");
   }
   if (n["tighten_factor"]) {
-    o.tighten_factor = r.number(n["tighten_factor"], "options.tighten_factor");
+    o.tighten_factor = r.number(n["tighten_factor"], prefix + "tighten_factor");
     if (!(*o.tighten_factor >= 0) || !std::isfinite(*o.tighten_factor))
-      r.fail(n["tighten_factor"], "options.tighten_factor", "expected a finite non-negative factor (at most 1: one step)");
+      r.fail(n["tighten_factor"], prefix + "tighten_factor", "expected a finite non-negative factor (at most 1: one step)");
   }
-  if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], "options.task_max_iter", 0);
-  if (n["task_penalty"]) o.task_penalty = r.boolean(n["task_penalty"], "options.task_penalty");
+  if (n["task_max_iter"]) o.task_max_iter = positiveInteger(r, n["task_max_iter"], prefix + "task_max_iter", 0);
+  if (n["task_penalty"]) o.task_penalty = r.boolean(n["task_penalty"], prefix + "task_penalty");
   if (n["penalty_iterations"])
-    o.penalty_iterations = positiveInteger(r, n["penalty_iterations"], "options.penalty_iterations", 0);
+    o.penalty_iterations = positiveInteger(r, n["penalty_iterations"], prefix + "penalty_iterations", 0);
   if (n["seed"]) {
     // A bare `null` is YAML's empty value: the null seed, as in a problem file's solve.seed.
-    o.seed_kind = n["seed"].IsNull() ? "null" : r.text(n["seed"], "options.seed");
+    o.seed_kind = n["seed"].IsNull() ? "null" : r.text(n["seed"], prefix + "seed");
     try {
       if (collocation::parseSeedKind(o.seed_kind) == collocation::SeedKind::Solution)
-        r.fail(n["seed"], "options.seed", "a solution seed is not for a sweep; expected null, perturbed, simulation or perturbed-simulation");
+        r.fail(n["seed"], prefix + "seed", "a solution seed is not for a sweep; expected null, perturbed, simulation or perturbed-simulation");
     } catch (const std::invalid_argument& e) {
-      r.fail(n["seed"], "options.seed", e.what());
+      r.fail(n["seed"], prefix + "seed", e.what());
     }
   }
   if (n["seed_from"]) {
-    const std::string given = r.text(n["seed_from"], "options.seed_from");
+    const std::string given = r.text(n["seed_from"], prefix + "seed_from");
     o.seed_from = resolvePath(given, r.file());
     if (!fs::exists(o.seed_from))
-      r.fail(n["seed_from"], "options.seed_from",
+      r.fail(n["seed_from"], prefix + "seed_from",
              "no earlier solution at '" + o.seed_from + "' (expected the folder saltus optimize --out wrote, relative to the spec)");
     if (n["seed"])
-      r.fail(n["seed_from"], "options.seed_from", "not with options.seed: the seed is the earlier solution, perturbed by seed_scale");
+      r.fail(n["seed_from"], prefix + "seed_from", "not with " + prefix + "seed: the seed is the earlier solution, perturbed by seed_scale");
   }
   for (const auto& [key, value] : {std::pair{"hessian", &o.hessian}, {"feasibility_hessian", &o.feasibility_hessian}}) {
     if (!n[key]) continue;
-    const std::string where = std::string("options.") + key;
-    *value = r.text(n[key], where);
+    const std::string at = prefix + key;
+    *value = r.text(n[key], at);
     if (*value != "exact" && *value != "limited-memory")
-      r.fail(n[key], where, "expected exact or limited-memory, got '" + *value + "'");
+      r.fail(n[key], at, "expected exact or limited-memory, got '" + *value + "'");
   }
   for (const auto& [key, options] : {std::pair{"ipopt", &o.ipopt}, {"task_ipopt", &o.task_ipopt}}) {
     if (!n[key]) continue;
-    const std::string where = std::string("options.") + key;
-    r.checkNameMap(n[key], where);
+    const std::string at = prefix + key;
+    r.checkNameMap(n[key], at);
     for (auto it = n[key].begin(); it != n[key].end(); ++it) {
-      const std::string at = scene::keyPath(where, it->first.Scalar());
-      if (!it->second.IsScalar()) r.fail(it->second, at, "expected a number or a name, got " + scene::describe(it->second));
+      const std::string name_at = scene::keyPath(at, it->first.Scalar());
+      if (!it->second.IsScalar()) r.fail(it->second, name_at, "expected a number or a name, got " + scene::describe(it->second));
       (*options)[it->first.Scalar()] = it->second.Scalar();
     }
   }
@@ -183,7 +188,7 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
   YamlReader r(file, {});
   if (!root.IsMap()) r.fail(root, "", "a sweep spec must be a map of keys (problems, methods, set, seeds, options), got " +
                                           scene::describe(root));
-  r.checkMap(root, "", {"problems", "methods", "set", "seeds", "options", "replay", "success"});
+  r.checkMap(root, "", {"problems", "methods", "set", "seeds", "options", "variants", "replay", "success"});
   SweepSpec spec;
   spec.file = file;
 
@@ -239,12 +244,37 @@ SweepSpec parseSweepSpec(const std::string& text, const std::string& file) {
   std::set<unsigned> unique(spec.seeds.begin(), spec.seeds.end());
   if (unique.size() != spec.seeds.size()) r.fail(seeds, "seeds", "a seed is listed twice");
 
-  if (root["options"]) readOptions(r, root["options"], spec.options);
-  if (!spec.options.seed_from.empty())
+  if (root["options"]) readOptions(r, root["options"], spec.options, "options");
+  if (root["variants"]) {
+    const YAML::Node variants = root["variants"];
+    r.checkNameMap(variants, "variants");
+    if (!variants.IsMap() || variants.size() == 0)
+      r.fail(variants, "variants",
+             "expected a map of variant names to the options each changes, e.g. {baseline: {}, monotone: {ipopt: "
+             "{mu_strategy: monotone}}}");
+    for (auto it = variants.begin(); it != variants.end(); ++it) {
+      const std::string name = it->first.Scalar(), at = scene::keyPath("variants", name);
+      if (name.empty() || !std::all_of(name.begin(), name.end(), [](char ch) {
+            return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+          }))
+        r.fail(it->first, at, "expected a variant name (letters, digits, _ and -), got '" + name + "'");
+      SolveSettings o = spec.options;
+      readOptions(r, it->second, o, at);
+      if (!o.seed_from.empty() && !o.seed_kind.empty())
+        r.fail(it->second, at,
+               "seed_from and seed are both in force (one from options): the seed is the earlier solution, perturbed "
+               "by seed_scale");
+      spec.variants.push_back({name, o});
+    }
+  }
+  for (const auto& [variant, o] : spec.settings()) {
+    if (o.seed_from.empty()) continue;
     for (std::size_t i = 0; i < spec.methods.size(); ++i)
       if (!splitMethod(spec.methods[i]).seed_method.empty())
         r.fail(methods[i], scene::indexPath("methods", i),
-               "a two-step method is seeded by its first method's solution, not by options.seed_from");
+               "a two-step method is seeded by its first method's solution, not by " +
+                   (variant.empty() ? std::string("options") : "variants." + variant) + ".seed_from");
+  }
   if (root["replay"]) readReplay(r, root["replay"], spec.replay);
   if (root["success"]) {
     const std::string rule = r.text(root["success"], "success");
@@ -286,13 +316,20 @@ MethodLabel splitMethod(const std::string& label) {
   return m;
 }
 
+std::vector<std::pair<std::string, SolveSettings>> SweepSpec::settings() const {
+  if (variants.empty()) return {{"", options}};
+  return variants;
+}
+
 std::string SweepCase::cell() const {
   std::string s = problem_name + " " + method;
   for (const auto& [name, value] : set) s += " " + name + "=" + formatValue(value);
+  if (!variant.empty()) s += " [" + variant + "]";
   return s;
 }
 
-std::vector<std::string> SweepCase::optimizeArguments(const SolveSettings& o, const std::string& out) const {
+std::vector<std::string> SweepCase::optimizeArguments(const std::string& out) const {
+  const SolveSettings& o = options;
   const MethodLabel m = splitMethod(method);
   std::vector<std::string> a = {"optimize", problem, "--method", m.method, "--seed", std::to_string(seed)};
   if (!m.seed_method.empty()) a.insert(a.end(), {"--seed-method", m.seed_method});
@@ -338,16 +375,22 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCel
         }
       combinations = next;
     }
+    const auto variants = spec.settings();
     for (const auto& values : combinations) {
+      // The problem as each variant meshes it (options N and P).
+      std::vector<collocation::Problem> meshed;
       collocation::Problem problem;
-      try {
-        problem = collocation::loadProblem(entry.problem, values);
-        if (spec.options.N || spec.options.P)
-          collocation::remesh(problem, spec.options.N.value_or(problem.N), spec.options.P.value_or(problem.P));
-      } catch (const std::exception& e) {
-        std::string set;
-        for (const auto& [name, value] : values) set += (set.empty() ? "" : ", ") + name + "=" + formatValue(value);
-        throw scene::ScenarioError(where + (set.empty() ? "" : " with " + set) + ": " + e.what());
+      std::string set;
+      for (const auto& [name, value] : values) set += (set.empty() ? "" : ", ") + name + "=" + formatValue(value);
+      for (const auto& [variant, o] : variants) {
+        try {
+          if (meshed.empty()) problem = collocation::loadProblem(entry.problem, values);
+          meshed.push_back(problem);
+          if (o.N || o.P) collocation::remesh(meshed.back(), o.N.value_or(problem.N), o.P.value_or(problem.P));
+        } catch (const std::exception& e) {
+          throw scene::ScenarioError(where + (set.empty() ? "" : " with " + set) +
+                                     (variant.empty() || meshed.empty() ? "" : ", variant " + variant) + ": " + e.what());
+        }
       }
       for (const std::string& method : spec.methods) {
         const MethodLabel label = splitMethod(method);
@@ -359,27 +402,37 @@ std::vector<SweepCase> expandSweep(const SweepSpec& spec, std::vector<SkippedCel
           if (skipped) skipped->push_back({problem.name, method, values, why});
           continue;
         }
-        try {
-          const collocation::Transcription check(problem, collocation::parseMethod(label.method));
-        } catch (const std::invalid_argument& e) {
-          throw scene::ScenarioError(where + ", method " + method + ": " + e.what());
-        }
-        for (unsigned seed : spec.seeds) {
-          SweepCase c;
-          c.problem = entry.problem;
-          c.problem_name = problem.name;
-          c.method = method;
-          c.set = values;
-          c.seed = seed;
-          c.physical_required = spec.physical_success;
-          c.id = sanitise(problem.name) + "__" + sanitise(method);
-          for (const auto& [name, value] : values) c.id += "__" + sanitise(name + "=" + formatValue(value));
-          c.id += "__seed=" + std::to_string(seed);
-          if (!ids.insert(c.id).second)
-            throw scene::ScenarioError(where + ": the solve " + c.id +
-                                       " is in the grid twice (two entries of problem '" + problem.name +
-                                       "' with the same parameter values)");
-          cases.push_back(c);
+        std::set<std::pair<int, int>> transcribed;  // meshes (N, P) this method was checked on
+        for (std::size_t v = 0; v < variants.size(); ++v) {
+          const std::string& variant = variants[v].first;
+          if (transcribed.insert({meshed[v].N, meshed[v].P}).second) {
+            try {
+              const collocation::Transcription check(meshed[v], collocation::parseMethod(label.method));
+            } catch (const std::invalid_argument& e) {
+              throw scene::ScenarioError(where + ", method " + method + (variant.empty() ? "" : ", variant " + variant) +
+                                         ": " + e.what());
+            }
+          }
+          for (unsigned seed : spec.seeds) {
+            SweepCase c;
+            c.problem = entry.problem;
+            c.problem_name = problem.name;
+            c.method = method;
+            c.set = values;
+            c.variant = variant;
+            c.options = variants[v].second;
+            c.seed = seed;
+            c.physical_required = spec.physical_success;
+            c.id = sanitise(problem.name) + "__" + sanitise(method);
+            for (const auto& [name, value] : values) c.id += "__" + sanitise(name + "=" + formatValue(value));
+            if (!variant.empty()) c.id += "__variant=" + variant;
+            c.id += "__seed=" + std::to_string(seed);
+            if (!ids.insert(c.id).second)
+              throw scene::ScenarioError(where + ": the solve " + c.id +
+                                         " is in the grid twice (two entries of problem '" + problem.name +
+                                         "' with the same parameter values)");
+            cases.push_back(c);
+          }
         }
       }
     }

@@ -1,4 +1,4 @@
-// A sweep: the grid of solves problems × methods × parameter values × seeds that `saltus sweep`
+// A sweep: the grid of solves problems × methods × parameter values × variants × seeds that `saltus sweep`
 // runs (the protocol of the paper's §V.C: many seeded solves, statistics per case). Read from a
 // YAML spec (format in the README, "saltus sweep"):
 //
@@ -8,6 +8,7 @@
 //   seeds: {from: 1, count: 10}                         # or a list [1, 2, 7]
 //   options: {N: 20, restarts: 0}                        # passed to every solve
 //   options: {seed_from: solutions/ollie, seed_scale: 1e-4}  # an earlier solution, perturbed
+//   variants: {baseline: {}, monotone: {ipopt: {mu_strategy: monotone}}}  # each over the grid
 //   success: physical                                    # or feasible (below)
 //
 // A problem may carry a grid of its own, combined with the top-level one:
@@ -72,6 +73,12 @@ struct SweepSpec {
   std::map<std::string, std::vector<double>> set;  // for every problem
   std::vector<unsigned> seeds;
   SolveSettings options;
+  // Alternatives compared over the whole grid (`variants: {NAME: {options it changes}}`), each
+  // with its options in full: `options` with the variant's keys in place of its own (ipopt and
+  // task_ipopt entries added). In the spec's order; empty: one, unnamed, `options` itself.
+  std::vector<std::pair<std::string, SolveSettings>> variants;
+  // The variants, or {"", options} without any.
+  std::vector<std::pair<std::string, SolveSettings>> settings() const;
   ReplayCheck replay;
   // What a successful solve is (`success:`): physical (the default) — feasible and, with the
   // replay check, physically right; feasible — feasible alone, the paper's success (§V.C, its
@@ -95,12 +102,15 @@ struct SweepCase {
   std::string problem_name;  // the problem's `name`
   std::string method;  // as listed: "M" or "M from S" (splitMethod)
   std::map<std::string, double> set;  // the grid's values (sorted by name)
+  std::string variant;   // the spec's variant (empty: none)
+  SolveSettings options;  // the variant's options (SweepSpec::settings)
   unsigned seed = 1;
   bool physical_required = true;  // the spec's success rule (SweepSpec::physical_success)
-  // A cell of the summary: problem, method and parameter values (every seed of a cell).
+  // A cell of the summary: problem, method, parameter values and variant (every seed of a cell):
+  // "pendulum_conveyor impulsive friction=0.5 [monotone]".
   std::string cell() const;
-  // The arguments after `saltus`: optimize PROBLEM --method M --seed S --set ... --out OUT.
-  std::vector<std::string> optimizeArguments(const SolveSettings& options, const std::string& out) const;
+  // The arguments after `saltus`: optimize PROBLEM --method M --seed S --set ... (options) --out OUT.
+  std::vector<std::string> optimizeArguments(const std::string& out) const;
 };
 
 SweepSpec readSweepSpec(const std::string& path);

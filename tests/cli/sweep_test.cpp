@@ -84,6 +84,37 @@ TEST(CliSweep, SmallSweepWritesRecordsSummaryReportAndCharts) {
 
 // The paper's strategy 4 as a sweep: every seed starts from the same earlier solution, perturbed
 // by seed_scale with its own random seed (--seed-from in each solve's command and summary).
+// Variants compare settings over the same grid: each solve runs with its variant's options (a
+// feasibility stage capped at 3 iterations cannot land the drop), and each variant is a cell of
+// the summary and the report.
+TEST(CliSweep, VariantsAreCellsOfTheirOwnSolvedWithTheirOwnOptions) {
+  const fs::path dir = sweepDir("variants");
+  fs::create_directories(dir);
+  std::ofstream(dir / "spec.yaml") << "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n"
+                                      "options: {restarts: 0, tighten_within: 0}\n"
+                                      "variants: {baseline: {}, capped: {ipopt: {max_iter: 3}}}\n";
+  const auto r = runSaltus({"sweep", (dir / "spec.yaml").string(), "--out", (dir / "out").string(), "--jobs", "2"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(records(dir / "out").size(), 2u);
+  const nlohmann::json baseline = nlohmann::json::parse(
+      readFile(dir / "out/runs/point_mass_drop__impulsive__variant=baseline__seed=1/record.json"));
+  const nlohmann::json capped =
+      nlohmann::json::parse(readFile(dir / "out/runs/point_mass_drop__impulsive__variant=capped__seed=1/record.json"));
+  EXPECT_EQ(baseline["variant"], "baseline");
+  EXPECT_TRUE(baseline["feasible"].get<bool>());
+  EXPECT_EQ(baseline["command"].get<std::string>().find("max_iter"), std::string::npos);
+  EXPECT_FALSE(capped["feasible"].get<bool>());
+  EXPECT_LE(capped["iterations"].get<int>(), 3);
+  EXPECT_NE(capped["command"].get<std::string>().find("--ipopt max_iter=3"), std::string::npos) << capped["command"];
+  const nlohmann::json summary = nlohmann::json::parse(readFile(dir / "out/summary.json"));
+  ASSERT_EQ(summary["cells"].size(), 2u);
+  EXPECT_EQ(summary["cells"][1]["variant"], "capped");
+  const std::string report = readFile(dir / "out/report.md");
+  EXPECT_NE(report.find("| point_mass_drop | impulsive [baseline] | – | 1/1 (100 %) |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| point_mass_drop | impulsive [capped] | – | 0/1 (0 %) |"), std::string::npos) << report;
+  EXPECT_GT(fs::file_size(dir / "out/charts/sweep_time.png"), 1000u);
+}
+
 TEST(CliSweep, AnEarlierSolutionSeedsEverySolve) {
   const fs::path dir = sweepDir("seed_from");
   fs::create_directories(dir);

@@ -77,8 +77,9 @@ TEST(SweepRecord, CellsCountSuccessesAndTakeStatisticsOverThem) {
   std::string header, first;
   std::getline(csv, header);
   std::getline(csv, first);
-  EXPECT_EQ(header.substr(0, 99), "problem,method,parameters,solves,feasible,converged,physical,successes,success_rate,wall_all_median");
-  EXPECT_EQ(first.substr(0, 45), "drop,impulsive,restitution=0,4,3,2,2,2,0.5,4,");
+  EXPECT_EQ(header.substr(0, 107),
+            "problem,method,parameters,variant,solves,feasible,converged,physical,successes,success_rate,wall_all_median");
+  EXPECT_EQ(first.substr(0, 46), "drop,impulsive,restitution=0,,4,3,2,2,2,0.5,4,");
 
   const auto j = summaryJson(cells, records);
   EXPECT_EQ(j["cells"].size(), 3u);
@@ -112,6 +113,37 @@ TEST(SweepRecord, CsvQuotesNamesWithCommas) {
   std::getline(csv, header);
   std::getline(csv, row);
   EXPECT_EQ(row.substr(0, 41), "\"drop, \"\"tall\"\"\",impulsive,restitution=0,");
+}
+
+// A spec's variants are cells of their own, beside the same problem, method and parameters: the
+// variant is in the cell's CSV row and JSON, and in the record's JSON only when there is one.
+TEST(SweepRecord, EachVariantIsACellOfItsOwn) {
+  std::vector<SweepRecord> records = {record("impulsive", 0, 1, true, true, 1.0, 100),
+                                      record("impulsive", 0, 2, true, true, 3.0, 300),
+                                      record("impulsive", 0, 1, false, false, 5.0, 500),
+                                      record("impulsive", 0, 2, true, true, 7.0, 700)};
+  records[0].variant = records[1].variant = "baseline";
+  records[2].variant = records[3].variant = "monotone";
+  const std::vector<CellSummary> cells = summarise(records);
+  ASSERT_EQ(cells.size(), 2u);
+  EXPECT_EQ(cells[0].variant, "baseline");
+  EXPECT_EQ(cells[0].successes, 2);
+  EXPECT_DOUBLE_EQ(cells[0].wall_seconds.median, 2.0);
+  EXPECT_EQ(cells[1].variant, "monotone");
+  EXPECT_EQ(cells[1].successes, 1);
+  EXPECT_DOUBLE_EQ(cells[1].wall_seconds.median, 7.0);
+  std::istringstream csv(summaryCsv(cells));
+  std::string header, first, second;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  std::getline(csv, second);
+  EXPECT_EQ(first.substr(0, 38), "drop,impulsive,restitution=0,baseline,");
+  EXPECT_EQ(second.substr(0, 38), "drop,impulsive,restitution=0,monotone,");
+  const auto j = summaryJson(cells, records);
+  EXPECT_EQ(j["cells"][1]["variant"], "monotone");
+  EXPECT_EQ(recordFromJson(toJson(records[2])).variant, "monotone");
+  EXPECT_FALSE(toJson(record("impulsive", 0, 1, true, true, 1.0, 100)).contains("variant"));
+  EXPECT_EQ(recordFromJson(toJson(record("impulsive", 0, 1, true, true, 1.0, 100))).variant, "");
 }
 
 TEST(SweepRecord, JsonReadsBackAsWritten) {

@@ -59,7 +59,7 @@ options: {N: 10, restarts: 0, hints: false, tighten_within: 0, tighten_factor: 4
   for (const SweepCase& c : cases) ids.insert(c.id);
   EXPECT_EQ(ids.size(), cases.size());
 
-  const std::vector<std::string> args = cases[5].optimizeArguments(spec.options, "OUT");
+  const std::vector<std::string> args = cases[5].optimizeArguments("OUT");
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0", "--no-hints",
                                              "--tighten-within", "0", "--tighten-factor", "4", "--task-max-iter", "500",
@@ -110,7 +110,7 @@ TEST(SweepSpec, AnEarlierSolutionIsRelativeToTheSpecAndSeedsEverySolve) {
   const SweepSpec spec = readSweepSpec((dir / "spec.yaml").string());
   EXPECT_EQ(fs::path(spec.options.seed_from), (dir / "solutions/drop").lexically_normal());
   for (const SweepCase& c : expandSweep(spec)) {
-    const std::vector<std::string> args = c.optimizeArguments(spec.options, "OUT");
+    const std::vector<std::string> args = c.optimizeArguments("OUT");
     const std::vector<std::string> from = {"--seed-from", spec.options.seed_from}, scale = {"--seed-scale", "0.001"};
     EXPECT_NE(std::search(args.begin(), args.end(), from.begin(), from.end()), args.end()) << c.id;
     EXPECT_NE(std::search(args.begin(), args.end(), scale.begin(), scale.end()), args.end()) << c.id;
@@ -140,7 +140,7 @@ TEST(SweepSpec, ABareNullSeedIsTheNullSeed) {
         parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\noptions: {seed: " + value + "}\n",
                        "spec.yaml");
     EXPECT_EQ(spec.options.seed_kind, "null") << value;
-    const std::vector<std::string> args = expandSweep(spec).front().optimizeArguments(spec.options, "OUT");
+    const std::vector<std::string> args = expandSweep(spec).front().optimizeArguments("OUT");
     const std::vector<std::string> kind = {"--seed-kind", "null"};
     EXPECT_NE(std::search(args.begin(), args.end(), kind.begin(), kind.end()), args.end()) << value;
   }
@@ -149,7 +149,7 @@ TEST(SweepSpec, ABareNullSeedIsTheNullSeed) {
 TEST(SweepSpec, RefusesBadSpecsNamingFileLineAndKey) {
   EXPECT_EQ(errorOf("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\nrepeats: 3\n"),
             "spec.yaml:4:1: repeats: unknown key 'repeats'; expected one of: problems, methods, set, seeds, options, "
-            "replay, success");
+            "variants, replay, success");
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [implicit]\nseeds: [1]\n")
                 .find("spec.yaml:2:11: methods[0]: expected impulsive, continuous or first-order, or 'M from S' (M "
                       "solved from S's solution), got 'implicit'"),
@@ -251,7 +251,7 @@ TEST(SweepSpec, ATwoStepMethodIsSolvedFromTheOtherMethodsSolution) {
   ASSERT_EQ(cases.size(), 2u);
   EXPECT_EQ(cases[1].id, "point_mass_drop__impulsive_from_first-order__restitution=0__seed=1");
   EXPECT_EQ(cases[1].cell(), "point_mass_drop impulsive from first-order restitution=0");
-  const std::vector<std::string> args = cases[1].optimizeArguments(spec.options, "OUT");
+  const std::vector<std::string> args = cases[1].optimizeArguments("OUT");
   const std::vector<std::string> expected = {"optimize", "point_mass_drop", "--method", "impulsive", "--seed", "1",
                                              "--seed-method", "first-order", "--set", "restitution=0",
                                              "--seed-kind", "perturbed", "--seed-scale", "0.1", "--out", "OUT"};
@@ -270,6 +270,65 @@ TEST(SweepSpec, ATwoStepMethodIsSolvedFromTheOtherMethodsSolution) {
   EXPECT_NE(errorOf("problems: [point_mass_drop]\nmethods: [impulsive from euler]\nseeds: [1]\n")
                 .find("methods[0]: expected impulsive, continuous or first-order, or 'M from S'"),
             std::string::npos);
+}
+
+// Variants: every one over the whole grid, each a cell of its own (its name in the id and the
+// cell), its options `options` with its own keys in place (ipopt entries added, a mesh of its own);
+// a variant that is not a map of options, or a bad name, is refused naming the key.
+TEST(SweepSpec, EachVariantRunsTheWholeGridWithItsOwnOptions) {
+  const SweepSpec spec = parseSweepSpec(R"(
+problems: [point_mass_drop]
+methods: [impulsive]
+seeds: [1, 2]
+options: {restarts: 0, ipopt: {max_cpu_time: 150}}
+variants:
+  baseline: {}
+  monotone: {ipopt: {mu_strategy: monotone}, restarts: 1}
+  coarse: {N: 10}
+)",
+                                        "spec.yaml");
+  ASSERT_EQ(spec.variants.size(), 3u);
+  EXPECT_EQ(spec.variants[1].first, "monotone");
+  const std::vector<SweepCase> cases = expandSweep(spec);
+  ASSERT_EQ(cases.size(), 6u);
+  EXPECT_EQ(cases[0].id, "point_mass_drop__impulsive__variant=baseline__seed=1");
+  EXPECT_EQ(cases[2].id, "point_mass_drop__impulsive__variant=monotone__seed=1");
+  EXPECT_EQ(cases[2].cell(), "point_mass_drop impulsive [monotone]");
+  EXPECT_EQ(cases[5].variant, "coarse");
+  EXPECT_EQ(cases[0].optimizeArguments("OUT"),
+            (std::vector<std::string>{"optimize", "point_mass_drop", "--method", "impulsive", "--seed", "1", "--restarts",
+                                      "0", "--ipopt", "max_cpu_time=150", "--out", "OUT"}));
+  EXPECT_EQ(cases[3].optimizeArguments("OUT"),
+            (std::vector<std::string>{"optimize", "point_mass_drop", "--method", "impulsive", "--seed", "2", "--restarts",
+                                      "1", "--ipopt", "max_cpu_time=150", "--ipopt", "mu_strategy=monotone", "--out",
+                                      "OUT"}));
+  EXPECT_EQ(cases[4].optimizeArguments("OUT"),
+            (std::vector<std::string>{"optimize", "point_mass_drop", "--method", "impulsive", "--seed", "1", "--N", "10",
+                                      "--restarts", "0", "--ipopt", "max_cpu_time=150", "--out", "OUT"}));
+  // Without variants: one unnamed, the ids and cells as before.
+  const std::vector<SweepCase> plain =
+      expandSweep(parseSweepSpec("problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n", "spec.yaml"));
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_EQ(plain[0].id, "point_mass_drop__impulsive__seed=1");
+  EXPECT_EQ(plain[0].cell(), "point_mass_drop impulsive");
+
+  const std::string base = "problems: [point_mass_drop]\nmethods: [impulsive]\nseeds: [1]\n";
+  EXPECT_NE(errorOf(base + "variants: {fast: {ipopt: {tol: [1, 2]}}}\n")
+                .find("spec.yaml:4:32: variants.fast.ipopt.tol: expected a number or a name"),
+            std::string::npos)
+      << errorOf(base + "variants: {fast: {ipopt: {tol: [1, 2]}}}\n");
+  EXPECT_NE(errorOf(base + "variants: {fast: {iterations: 3}}\n").find("spec.yaml:4:19: variants.fast.iterations: unknown key 'iterations'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "variants: {fast: {N: 0}}\n").find("variants.fast.N: expected an integer ≥ 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "variants: {\"a b\": {}}\n").find("expected a variant name (letters, digits, _ and -)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "variants: [a, b]\n").find("variants:"), std::string::npos);
+  // A mesh a problem cannot take, named with its variant: ollie_simple's air condition at [20, 0]
+  // is not in a mesh of 10 elements.
+  const std::string mesh =
+      errorOf("problems: [ollie_simple]\nmethods: [impulsive]\nseeds: [1]\nvariants: {full: {}, tiny: {N: 10}}\n");
+  EXPECT_NE(mesh.find("problems[0] (ollie_simple), variant tiny: "), std::string::npos) << mesh;
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
