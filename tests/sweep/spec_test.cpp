@@ -331,6 +331,23 @@ variants:
   EXPECT_NE(mesh.find("problems[0] (ollie_simple), variant tiny: "), std::string::npos) << mesh;
 }
 
+// Every spec the repository ships (bench/sweeps, named by the README's commands) reads and expands:
+// its problems load with each parameter combination, its methods take them, its paths resolve.
+TEST(SweepSpec, EveryShippedSpecExpands) {
+  int specs = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++specs;
+    try {
+      const SweepSpec spec = readSweepSpec(entry.path().string());
+      EXPECT_FALSE(expandSweep(spec).empty()) << entry.path();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+  EXPECT_GE(specs, 10);
+}
+
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
   EXPECT_EQ(formatValue(0.1), "0.1");
   EXPECT_EQ(formatValue(2), "2");
