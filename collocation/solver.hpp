@@ -41,6 +41,7 @@ struct StageReport {
   double evaluation_seconds = 0;  // in our function and derivative callbacks
   bool exact_hessian = true;      // false: Ipopt's limited-memory quasi-Newton (Problem)
   int hessian_evaluations = 0;    // of the Lagrangian's exact Hessian (none with quasi-Newton)
+  std::string barrier;            // Ipopt's mu_strategy in the stage: "monotone" or "adaptive"
   // ≥ 0: the stage's result is not its end point but the best feasible point it evaluated, a
   // trial of this iteration (0: its starting point); the task and tightening stages only.
   int kept_iteration = -1;
@@ -86,7 +87,8 @@ struct SolveOptions {
   // The task stage starts from the feasibility stage's multipliers as well as its point.
   bool warm_start_multipliers = true;
   // The seed is close to a solution (an earlier solution): the feasibility stage starts with a
-  // small barrier parameter and keeps the seed close to its bounds, as the task stage does.
+  // small barrier parameter (Ipopt's monotone strategy from mu_init 1e-4) and keeps the seed close
+  // to its bounds, as the tightening stages do.
   bool warm_seed = false;
   // Largest violation of a constraint's bounds at a feasible point, in the constraints' own SI
   // units (metres, m/s, N·s). Ipopt's constr_viol_tol (1e-8 here) applies to its scaled problem:

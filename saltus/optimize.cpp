@@ -221,6 +221,7 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"evaluation_seconds", s.evaluation_seconds},
                            {"hessian", s.exact_hessian ? "exact" : "limited-memory"},
                            {"hessian_evaluations", s.hessian_evaluations},
+                           {"barrier", s.barrier},
                            {"kept_iteration", s.kept_iteration},
                            {"product_bound", s.product_bound}});
   for (const AttemptReport& a : r.attempts)

@@ -142,6 +142,42 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
 }
 
+// A stage that only restores feasibility from near a solution (a tightening step, or a first
+// stage from a warm seed) runs under Ipopt's monotone barrier from μ₀ = 1e-4 (the adaptive
+// strategy's oracle ignores μ₀); a first stage from a cold seed, and the task stage, which
+// optimises, under the adaptive one; the caller's mu_strategy overrides them all. The near miss:
+// a cold feasibility stage, then tightening, to the drop either way.
+TEST(Solver, StagesThatRestoreFeasibilityNearASolutionUseTheMonotoneBarrier) {
+  Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  const SolveReport r = solve(t, seeding.seed, SolveOptions{});
+  expectTightenedDrop(t, r);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_EQ(r.stages[0].barrier, "adaptive");
+  EXPECT_EQ(r.stages[1].barrier, "monotone");
+
+  SolveOptions adaptive;
+  adaptive.ipopt["mu_strategy"] = "adaptive";
+  const SolveReport a = solve(t, seeding.seed, adaptive);
+  expectTightenedDrop(t, a);
+  for (const StageReport& s : a.stages) EXPECT_EQ(s.barrier, "adaptive") << s.name;
+
+  // With a task cost (the lowest largest height, x_m), from the drop as a warm seed: the first
+  // stage monotone, the task stage adaptive, the result feasible.
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+  const Transcription task(p, Method::Impulsive);
+  const Eigen::VectorXd task_seed = withMaxVariable(t, r.x, task);
+  const SolveReport c = solve(task, [&](int) { return Seed{task_seed, true}; }, SolveOptions{});
+  ASSERT_GE(c.stages.size(), 2u);
+  EXPECT_EQ(c.stages.front().name, "feasibility");
+  EXPECT_EQ(c.stages.front().barrier, "monotone");
+  EXPECT_EQ(c.stages.back().name, "task");
+  EXPECT_EQ(c.stages.back().barrier, "adaptive");
+  EXPECT_TRUE(c.feasible) << c.stages.back().status;
+}
+
 // When no stage ends feasible, the result is the point nearest a trajectory, not the last
 // stage's. The near miss above (products 1.5e-4, constraints met), untightened, with a task stage
 // stopped at its start pushed 0.1 inside its bounds (every reaction and ε at least 0.1: products
