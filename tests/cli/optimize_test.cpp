@@ -144,7 +144,7 @@ TEST(Optimize, BadInputNamesWhatWasExpected) {
 
 TEST(Optimize, FailedSolveExitsNonZeroWithIpoptStatus) {
   const fs::path dir = freshDir("fail");
-  const auto r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=3", "--out", dir.string()});
+  const auto r = runSaltus({"optimize", "point_mass_drop", "--ipopt", "max_iter=2", "--out", dir.string()});
   EXPECT_EQ(r.status, 1);
   const nlohmann::json s = nlohmann::json::parse(readFile(dir / "summary.json"));
   EXPECT_FALSE(s["feasible"].get<bool>());

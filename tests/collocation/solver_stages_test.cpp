@@ -63,6 +63,12 @@ Problem nearMissDrop() {
   return p;
 }
 
+// A task cost on the drop: the lowest largest height (x_m, the variable x_max), weight 1.
+void withHeightCost(Problem& p) {
+  p.cost.max_coordinate = 0;
+  p.cost.max_weight = 1.0;
+}
+
 // A solve whose tightening stage (its second) made the drop feasible: it lands at the analytic time.
 void expectTightenedDrop(const Transcription& t, const SolveReport& r) {
   ASSERT_EQ(r.stages.size(), 2u);
@@ -120,8 +126,7 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   // feasibility stage ends again), carried over by variable name, with x_m the largest height in
   // it: its own seeding would draw other random numbers, and whether their feasibility stage
   // ends just above the tolerance or just under it depends on rounding.
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   const Transcription task(p, Method::Impulsive);
   const Eigen::VectorXd task_seed = withMaxVariable(t, near.x, task);
   const SolveReport c = solve(task, [&](int) { return Seed{task_seed, true}; }, SolveOptions{});
@@ -165,8 +170,7 @@ TEST(Solver, StagesThatRestoreFeasibilityNearASolutionUseTheMonotoneBarrier) {
 
   // With a task cost (the lowest largest height, x_m), from the drop as a warm seed: the first
   // stage monotone, the task stage adaptive, the result feasible.
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   const Transcription task(p, Method::Impulsive);
   const Eigen::VectorXd task_seed = withMaxVariable(t, r.x, task);
   const SolveReport c = solve(task, [&](int) { return Seed{task_seed, true}; }, SolveOptions{});
@@ -192,8 +196,7 @@ TEST(Solver, WithoutAFeasiblePointTheNearerStageEndIsKept) {
   ASSERT_EQ(near.stages.size(), 1u);
   ASSERT_TRUE(near.stages[0].succeeded) << near.stages[0].status;
 
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   const Transcription task(p, Method::Impulsive);
   const Eigen::VectorXd task_seed = withMaxVariable(t, near.x, task);
   SolveOptions o = without;
@@ -310,8 +313,7 @@ TEST(Solver, TighteningFromFarAboveTheToleranceLowersTheBoundInSteps) {
 // The mechanism itself: Nlp.KeepsTheBestFeasiblePointItEvaluates.
 TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
   Problem p = loadProblem("point_mass_drop");
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   const Transcription t(p, Method::Impulsive);
   SolveOptions o;
   o.warm_seed = true;
@@ -356,8 +358,7 @@ TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
 // feasibility stage iterates; the command line's value overrides the problem's.
 TEST(Solver, TaskStageOptionsReachTheTaskStageOnly) {
   Problem p = loadProblem("point_mass_drop");
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   p.task_ipopt_options["max_iter"] = "0";
   const Transcription t(p, Method::Impulsive);
   const Eigen::VectorXd seed = seedFromSimulation(t);
@@ -378,8 +379,7 @@ TEST(Solver, TaskStageOptionsReachTheTaskStageOnly) {
 
 TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   Problem p = loadProblem("point_mass_drop");
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   const Transcription t(p, Method::Impulsive);
   const Eigen::VectorXd seed = seedFromSimulation(t);
   SolveOptions stopped;
@@ -428,8 +428,7 @@ TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
 // the task stage with the exact one: the same physics as with the exact Hessian throughout.
 TEST(Solver, AQuasiNewtonFeasibilityStageAndAnExactTaskStage) {
   Problem p = loadProblem("point_mass_drop");
-  p.cost.max_coordinate = 0;  // a task stage: minimise the largest height
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);  // a task stage: minimise the largest height
   for (const bool exact_feasibility : {false, true}) {
     SCOPED_TRACE(exact_feasibility ? "exact" : "limited-memory");
     p.feasibility_exact_hessian = exact_feasibility;
@@ -499,8 +498,7 @@ TEST(Solver, FeasibleAndConvergedWithoutATaskCost) {
 // The near-miss drop with x_m as its task cost and the penalty stage capped at 200 iterations.
 Problem penaltyStageDrop() {
   Problem p = nearMissDrop();
-  p.cost.max_coordinate = 0;
-  p.cost.max_weight = 1.0;
+  withHeightCost(p);
   p.random_seed = 1;
   p.penalty_iterations = 200;
   return p;
