@@ -81,6 +81,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   options.seed_inputs = opt.seed_inputs;
   options.seed_scale = opt.seed_scale;
   options.restarts = opt.restarts;
+  options.resimulations = opt.resimulations;
   const auto hessian = [](const std::string& flag, const std::string& kind, std::optional<bool>& exact) {
     if (kind.empty()) return;
     if (kind != "exact" && kind != "limited-memory")
@@ -218,6 +219,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "last row's time is the horizon) that drives the simulation seed in place of zero inputs");
   app->add_option("--seed-scale", opt->seed_scale, "size of the random perturbation of the initial guess (0: none)");
   app->add_option("--restarts", opt->restarts, "further attempts from new perturbations when a solve ends infeasible");
+  app->add_option("--resimulations", opt->resimulations,
+                  "after an attempt that ends infeasible, up to this many further attempts, each from the "
+                  "time-stepper's motion under the previous attempt's inputs (problems with inputs)");
   app->add_option("--tighten-within", opt->tighten_within,
                   "tighten (every product bounded by 0.9 x the tolerance) a solve ending infeasible with products "
                   "within this many times the tolerance (default: always; 0: never)");

@@ -21,6 +21,7 @@ struct OptimizeCliOptions {
   std::string seed_inputs;
   std::optional<double> seed_scale;
   std::optional<int> restarts;
+  std::optional<int> resimulations;
   std::optional<double> tighten_within;
   std::optional<double> tighten_factor;
   std::optional<int> task_max_iter;

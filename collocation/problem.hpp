@@ -125,6 +125,10 @@ struct Problem {
   // attempt k starts from the seed perturbed with random_seed + k (a perturbed seed), or from
   // the null seed perturbed with random_seed + k (a null seed).
   int restarts = 2;
+  // After an attempt that ends infeasible, up to this many further attempts, each seeded from the
+  // time-stepper's motion under the previous attempt's inputs (seedFromResimulation; SolveOptions::
+  // resimulations): a chain before the next restart.
+  int resimulations = 0;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
   std::string seed_solution_origin;  // where it was given (file:line: solve.seed_solution, or --seed-from)
   // An open-loop input schedule that drives a simulation seed (input_schedule.hpp; empty: the

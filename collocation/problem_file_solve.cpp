@@ -21,7 +21,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "seed_inputs", "restarts", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
+               "seed_inputs", "restarts", "resimulations", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
                "impulsive", "continuous", "first-order"},
               true);
   if (node.IsNull()) return;
@@ -48,6 +48,11 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (const YAML::Node s = node["restarts"]; s.IsDefined()) {
     p_.restarts = r_.integer(s, "solve.restarts");
     if (p_.restarts < 0) r_.fail(s, "solve.restarts", "expected a non-negative integer, got " + std::to_string(p_.restarts));
+  }
+  if (const YAML::Node s = node["resimulations"]; s.IsDefined()) {
+    p_.resimulations = r_.integer(s, "solve.resimulations");
+    if (p_.resimulations < 0)
+      r_.fail(s, "solve.resimulations", "expected a non-negative integer, got " + std::to_string(p_.resimulations));
   }
   // A file named relative to the problem file, and where it was given.
   for (auto [key, path, where] : {std::tuple{"seed_solution", &p_.seed_solution, &p_.seed_solution_origin},

@@ -430,3 +430,42 @@ std::vector<HintReach> checkHints(const Transcription& t) {
 }
 
 }  // namespace saltus::collocation
+
+namespace saltus::collocation {
+
+InputSchedule scheduleFromInputs(const Transcription& t, const Eigen::VectorXd& x) {
+  const Problem& p = t.problem();
+  const int m = static_cast<int>(p.inputs.size());
+  if (m == 0) throw std::invalid_argument("a schedule from a point's inputs needs a problem with inputs");
+  InputSchedule s;
+  s.path = "the inputs of the previous attempt";
+  double start = 0;
+  const auto push = [&](double time, const Eigen::VectorXd& u) {
+    if (!s.times.empty() && time <= s.times.back()) return;  // a zero-length interval holds nothing
+    s.times.push_back(time);
+    s.values.push_back(u.cwiseMax(p.input_lower).cwiseMin(p.input_upper));
+  };
+  for (const ElementLayout& L : t.layout()) {
+    const double h = x[L.h];
+    // Each collocation point's inputs from halfway after the previous one (the element's start
+    // for the first) to halfway to the next: a zero-order hold centred on the points.
+    double previous = -1;
+    for (std::size_t c = 0; c < L.points.size(); ++c) {
+      if (L.points[c].u < 0) continue;  // the collocation points (the first-order method's steps)
+      const double time = start + L.tau[c] * h;
+      push(previous < 0 ? start : 0.5 * (previous + time), x.segment(L.points[c].u, m));
+      previous = time;
+    }
+    start += h;
+  }
+  s.times.push_back(start);  // the horizon: the point's total time
+  s.values.push_back(s.values.back());
+  return s;
+}
+
+Eigen::VectorXd seedFromResimulation(const Transcription& t, const Eigen::VectorXd& x, SimulationSeedReport* report) {
+  const InputSchedule schedule = scheduleFromInputs(t, x);
+  return seedFromSimulation(t, report, &schedule);
+}
+
+}  // namespace saltus::collocation

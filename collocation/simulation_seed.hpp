@@ -46,6 +46,20 @@ struct SimulationSeedReport {
 Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport* report = nullptr,
                                    const InputSchedule* schedule = nullptr);
 
+// The inputs of a point x of t (an optimiser's end point) as an open-loop schedule: each
+// collocation point's inputs held from halfway after the previous point (the element's start for
+// the first) to halfway to the next, clamped within the inputs' bounds (Ipopt relaxes them by
+// 1e-8); the horizon is x's total time. Throws std::invalid_argument for a problem without inputs.
+InputSchedule scheduleFromInputs(const Transcription& t, const Eigen::VectorXd& x);
+
+// Re-simulation: the simulation seed under x's inputs (scheduleFromInputs). From the end of a
+// failed solve, the time-stepper's motion under its inputs is a physically consistent point
+// (every product zero, each impact a real one) near what the optimiser was doing; what it
+// violates is the task's constraints, which a solve from there can pull in (README, "The Ollie").
+// Throws as seedFromSimulation.
+Eigen::VectorXd seedFromResimulation(const Transcription& t, const Eigen::VectorXd& x,
+                                     SimulationSeedReport* report = nullptr);
+
 // Whether a hint that closes a contact (a gap bound ≤ 1e-6 at [n, p]) can be met by the
 // problem's own motion: the mesh point can lie anywhere in [earliest, latest] (the element
 // lengths within their bounds), and the simulation from the initial state with the inputs at

@@ -416,7 +416,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   // Converged: Ipopt solved the stage whose point is kept, and that stage minimised the task
   // cost when there is one (a tightening stage only pulls products under the tolerance).
   report.converged = report.feasible && end.succeeded && end.kept_iteration < 0 && (!has_task || task_kept);
-  report.attempts.push_back({0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
+  report.attempts.push_back({0, 0, report.feasible, report.largest_product, report.iterations, report.wall_seconds});
   return report;
 }
 
@@ -425,8 +425,7 @@ SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveO
   std::vector<AttemptReport> attempts;
   double wall = 0, eval = 0;
   int iterations = 0;
-  for (int k = 0; k <= std::max(0, options.restarts); ++k) {
-    const Seed start = seed(k);
+  const auto attempt = [&](const Seed& start, int k, int r) {
     SolveOptions o = options;
     o.warm_seed = options.warm_seed || start.warm;
     total = solve(t, start.x, o);
@@ -435,8 +434,19 @@ SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveO
     iterations += total.iterations;
     AttemptReport a = total.attempts.front();
     a.attempt = k;
+    a.resimulation = r;
     attempts.push_back(a);
-    if (total.feasible || total.interrupted) break;
+    return total.feasible || total.interrupted;
+  };
+  for (int k = 0; k <= std::max(0, options.restarts); ++k) {
+    if (attempt(seed(k), k, 0)) break;
+    bool done = false;
+    for (int r = 0; r < options.resimulations && options.resimulate && !done; ++r) {
+      const std::optional<Seed> next = options.resimulate(total.x);
+      if (!next) break;
+      done = attempt(*next, k, r + 1);
+    }
+    if (done) break;
   }
   total.attempts = attempts;
   total.wall_seconds = wall;

@@ -18,6 +18,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,8 @@ struct StageReport {
 
 // One attempt of a solve with restarts.
 struct AttemptReport {
-  int attempt = 0;
+  int attempt = 0;       // k: the seed function's point for this attempt (random_seed + k)
+  int resimulation = 0;  // r ≥ 1: the r-th re-simulation after it (SolveOptions::resimulate); 0: the seed
   bool feasible = false;
   double largest_product = 0;
   int iterations = 0;
@@ -79,6 +81,14 @@ struct SolveReport {
   int variables = 0, constraints = 0, jacobian_nonzeros = 0, hessian_nonzeros = 0;
 };
 
+// The starting point of attempt k = 0, 1, …, and whether it is close to a solution (an earlier
+// solution, a simulation): then Ipopt starts with a small barrier parameter and keeps the point
+// close to its bounds, as with SolveOptions::warm_seed.
+struct Seed {
+  Eigen::VectorXd x;
+  bool warm = false;
+};
+
 struct SolveOptions {
   int print_level = 0;  // Ipopt's print_level (0 … 12)
   std::map<std::string, std::string> ipopt;  // extra options (the problem's, then the command line's)
@@ -99,6 +109,12 @@ struct SolveOptions {
   // leaves a feasible, not converged, solution.
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
+  // After an attempt that ends infeasible, up to this many further attempts, each from
+  // `resimulate` of the previous attempt's end point (a chain, before the next restart's seed):
+  // the time-stepper's motion under that point's inputs (seedFromResimulation). Empty
+  // `resimulate` or a std::nullopt from it (the simulation failed) ends the chain.
+  int resimulations = 0;
+  std::function<std::optional<Seed>(const Eigen::VectorXd& end)> resimulate;
   // A feasibility stage that ends (Ipopt succeeded, stopped by its iteration or time limit, or its
   // restoration phase failed; tightensAfter) with its largest product above the tolerance, but
   // within this many times it, is tightened:
@@ -127,13 +143,6 @@ struct SolveOptions {
   std::function<bool()> interrupted;
 };
 
-// The starting point of attempt k = 0, 1, …, and whether it is close to a solution (an earlier
-// solution, a simulation): then Ipopt starts with a small barrier parameter and keeps the point
-// close to its bounds, as with SolveOptions::warm_seed.
-struct Seed {
-  Eigen::VectorXd x;
-  bool warm = false;
-};
 using SeedFunction = std::function<Seed(int attempt)>;
 
 // Thrown for an Ipopt option that does not exist or has a value of the wrong type.
@@ -156,7 +165,9 @@ bool tightensAfter(const StageReport& feasibility, double tolerance, double viol
 
 // One attempt from x0 (options.restarts is ignored).
 SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const SolveOptions& options);
-// Up to 1 + options.restarts attempts, from seed(0), seed(1), …, until one is feasible; the
+// Up to 1 + options.restarts attempts, from seed(0), seed(1), …, each followed, while it ends
+// infeasible, by up to options.resimulations attempts from options.resimulate of the previous
+// end, until one is feasible; the
 // report is the feasible attempt's (or the last one's), with every attempt listed and the
 // times and iterations summed over them.
 SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveOptions& options);

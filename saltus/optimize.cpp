@@ -68,6 +68,10 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
     if (*options.restarts < 0) throw std::invalid_argument("restarts: expected a non-negative integer");
     problem.restarts = *options.restarts;
   }
+  if (options.resimulations) {
+    if (*options.resimulations < 0) throw std::invalid_argument("resimulations: expected a non-negative integer");
+    problem.resimulations = *options.resimulations;
+  }
   if (options.exact_hessian) problem.exact_hessian = problem.feasibility_exact_hessian = *options.exact_hessian;
   if (options.feasibility_exact_hessian) problem.feasibility_exact_hessian = *options.feasibility_exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
@@ -129,6 +133,16 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     o.simulation_seed = seeding.simulation;
     o.seed_fallback = seeding.fallback;
     solve.restarts = seeding.restarts;
+    if (adjusted.resimulations > 0 && !adjusted.inputs.empty()) {
+      solve.resimulations = adjusted.resimulations;
+      solve.resimulate = [&t](const Eigen::VectorXd& end) -> std::optional<collocation::Seed> {
+        try {
+          return collocation::Seed{collocation::seedFromResimulation(t, end), true};
+        } catch (const std::runtime_error&) {  // the time-stepper failed: no such attempt
+          return std::nullopt;
+        }
+      };
+    }
     o.report = collocation::solve(t, seeding.seed, solve);
   }
   o.tighten_within = solve.tighten_within;
@@ -183,6 +197,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
+  j["resimulations"] = problem.resimulations;
   j["penalty_iterations"] = problem.penalty_iterations;  // as solved: the method's own, or the options'
   j["task_penalty"] = problem.task_penalty;
   j["penalty_weight"] = problem.cost.penalty_weight;
@@ -226,6 +241,7 @@ std::string summaryJson(const OptimizeResult& o) {
                            {"product_bound", s.product_bound}});
   for (const AttemptReport& a : r.attempts)
     j["attempts"].push_back({{"attempt", a.attempt},
+                             {"resimulation", a.resimulation},
                              {"random_seed", problem.random_seed + a.attempt},
                              {"feasible", a.feasible},
                              {"largest_product", a.largest_product},

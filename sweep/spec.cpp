@@ -69,7 +69,7 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
 // given replaces o's, and ipopt and task_ipopt entries are added to o's.
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std::string& where) {
   const std::string prefix = where + ".";
-  r.checkMap(n, where, {"N", "P", "restarts", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], prefix + "N", 1);
@@ -78,6 +78,7 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std
     if (*o.P > 9) r.fail(n["P"], prefix + "P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
   }
   if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], prefix + "restarts", 0);
+  if (n["resimulations"]) o.resimulations = positiveInteger(r, n["resimulations"], prefix + "resimulations", 0);
   if (n["hints"]) o.hints = r.boolean(n["hints"], prefix + "hints");
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], prefix + "seed_scale");
@@ -337,6 +338,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const std::string& out) co
   if (o.N) a.insert(a.end(), {"--N", std::to_string(*o.N)});
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
+  if (o.resimulations) a.insert(a.end(), {"--resimulations", std::to_string(*o.resimulations)});
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (!o.seed_from.empty()) a.insert(a.end(), {"--seed-from", o.seed_from});
   if (!o.hints) a.push_back("--no-hints");

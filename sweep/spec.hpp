@@ -29,7 +29,7 @@ namespace saltus::sweep {
 
 // Options of `saltus optimize` passed to every solve.
 struct SolveSettings {
-  std::optional<int> N, P, restarts;
+  std::optional<int> N, P, restarts, resimulations;
   std::optional<double> seed_scale;
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<double> tighten_factor;  // --tighten-factor

@@ -152,4 +152,27 @@ TEST(Optimize, FailedSolveExitsNonZeroWithIpoptStatus) {
   fs::remove_all(dir);
 }
 
+// --resimulations: after each failed attempt, one from the time-stepper's motion under its inputs,
+// before the next restart; the summary lists each attempt's restart and re-simulation index.
+TEST(Optimize, ResimulationsFollowEachFailedAttempt) {
+  const fs::path dir = freshDir("resimulate");
+  auto r = runSaltus({"optimize", "ollie_simple", "--restarts", "1", "--resimulations", "1", "--ipopt", "max_iter=1",
+                      "--tighten-within", "0", "--task-max-iter", "0", "--out", dir.string()});
+  EXPECT_EQ(r.status, 1) << r.err;
+  const nlohmann::json s = nlohmann::json::parse(readFile(dir / "summary.json"));
+  EXPECT_EQ(s["resimulations"], 1);
+  ASSERT_EQ(s["attempts"].size(), 4u) << s["attempts"].dump();
+  const int expected[4][2] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(s["attempts"][i]["attempt"], expected[i][0]) << i;
+    EXPECT_EQ(s["attempts"][i]["resimulation"], expected[i][1]) << i;
+    EXPECT_FALSE(s["attempts"][i]["feasible"].get<bool>()) << i;
+  }
+  fs::remove_all(dir);
+  r = runSaltus({"optimize", "ollie_simple", "--resimulations", "-1", "--out", dir.string()});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("resimulations: expected a non-negative integer"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
 }  // namespace

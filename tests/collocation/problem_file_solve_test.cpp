@@ -31,6 +31,7 @@ TEST(ProblemFileSolve, EveryKeyOfTheFullFixture) {
   EXPECT_EQ(p.seed_kind, SeedKind::Solution);
   EXPECT_EQ(p.seed_scale, 0.2);
   EXPECT_EQ(p.random_seed, 7u);
+  EXPECT_EQ(p.resimulations, 3);
   EXPECT_EQ(p.seed_solution, kDataDir + "earlier/run");      // relative to the problem file
   EXPECT_EQ(p.seed_inputs, kDataDir + "scripts/push.csv");   // relative to the problem file as well
   EXPECT_EQ(p.seed_inputs_origin,
@@ -61,6 +62,9 @@ TEST(ProblemFileSolve, UnknownHessian) {
 TEST(ProblemFileSolve, NegativePenaltyIterations) {
   expectProblemError("bad_penalty_iterations.yaml", "solve.penalty_iterations",
               {"expected a non-negative iteration count", "got -5"});
+}
+TEST(ProblemFileSolve, NegativeResimulations) {
+  expectProblemError("bad_resimulations.yaml", "solve.resimulations", {"expected a non-negative integer", "got -2"});
 }
 TEST(ProblemFileSolve, AMethodsOwnPenaltyKeys) {
   expectProblemError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",

@@ -267,3 +267,71 @@ TEST(SimulationSeed, TheOllieScheduleSeedsAnOllie) {
 
 }  // namespace ollie_schedule_test
 }  // namespace saltus::collocation
+
+namespace saltus::collocation {
+namespace resimulation_test {
+
+// Re-simulation (seedFromResimulation): the drop pushed up by a schedule, its seed's inputs made
+// a schedule again (scheduleFromInputs) and simulated anew. The schedule holds each collocation
+// point's input over its own stretch, within the bounds, to the seed's total time; the push now
+// ends where the hold switches, within an element of where it ended, and the new seed lands at
+// the analytic time of that push.
+TEST(SimulationSeed, AResimulationReplaysThePointsInputs) {
+  const double g = 9.81, height = 0.1, t_push = 0.09, horizon = 0.6;
+  Problem p = testing::pointMassDrop(0.0, height);
+  p.h_max = 0.05;
+  p.inputs = {0};
+  p.input_lower = Eigen::VectorXd::Constant(1, -30);
+  p.input_upper = Eigen::VectorXd::Constant(1, 30);
+  InputSchedule schedule;
+  schedule.times = {0, t_push, horizon};
+  schedule.values = {Eigen::VectorXd::Constant(1, 2 * g), Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1)};
+  const Transcription t(p, Method::Impulsive);
+  Eigen::VectorXd x = seedFromSimulation(t, nullptr, &schedule);
+  // An input beyond its bound (as Ipopt's relaxed bounds allow) is held at the bound.
+  const ElementLayout& last = t.layout().back();
+  x[last.points[last.collocation.back()].u] = 30 + 1e-8;
+
+  const InputSchedule held = scheduleFromInputs(t, x);
+  double total = 0;
+  for (const ElementLayout& L : t.layout()) total += x[L.h];
+  EXPECT_NEAR(held.horizon(), total, 1e-12);
+  EXPECT_EQ(held.times.front(), 0.0);
+  double t0 = 0;
+  for (const ElementLayout& L : t.layout()) {
+    for (int c : L.collocation)
+      EXPECT_DOUBLE_EQ(held.at(t0 + L.tau[c] * x[L.h])[0], std::min(30.0, x[L.points[c].u]));
+    t0 += x[L.h];
+  }
+  EXPECT_EQ(held.values.back()[0], 30.0);
+  // Where the push ends in the held schedule: within an element of t_push.
+  double t_switch = -1;
+  for (std::size_t i = 1; i < held.times.size() && t_switch < 0; ++i)
+    if (held.values[i][0] == 0 && held.values[i - 1][0] == 2 * g) t_switch = held.times[i];
+  ASSERT_GT(t_switch, 0);
+  EXPECT_LT(std::abs(t_switch - t_push), p.h_max);
+
+  SimulationSeedReport report;
+  const Eigen::VectorXd again = seedFromResimulation(t, x, &report);
+  const double z1 = height + 0.5 * g * t_switch * t_switch, v1 = g * t_switch;
+  const double t_land = t_switch + (v1 + std::sqrt(v1 * v1 + 2 * g * z1)) / g;
+  ASSERT_GE(report.events.size(), 1u);
+  EXPECT_NEAR(report.events[0], t_land, 1.5 * report.dt);
+  EXPECT_NEAR(report.mesh_times.back(), total, p.h_max);  // the mesh placed on the landing moves the end
+  // Its points carry the held inputs.
+  t0 = 0;
+  for (const ElementLayout& L : t.layout()) {
+    for (int c : L.collocation) EXPECT_DOUBLE_EQ(again[L.points[c].u], held.at(t0 + L.tau[c] * again[L.h])[0]);
+    t0 += again[L.h];
+  }
+}
+
+// A problem without inputs has no schedule to replay.
+TEST(SimulationSeed, AResimulationNeedsInputs) {
+  const Problem p = testing::pointMassDrop(0.0, 0.1);
+  const Transcription t(p, Method::Impulsive);
+  EXPECT_THROW(scheduleFromInputs(t, seedFromSimulation(t)), std::invalid_argument);
+}
+
+}  // namespace resimulation_test
+}  // namespace saltus::collocation

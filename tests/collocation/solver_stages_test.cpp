@@ -1,4 +1,4 @@
-// The solver's stages (collocation/solver.hpp): restarts after an infeasible end, the tightening
+// The solver's stages (collocation/solver.hpp): the tightening
 // of a feasibility stage that ends near the tolerance or at its limit, the task stage's best
 // feasible point wherever it stops, and each stage's Hessian.
 #include <IpReturnCodes.hpp>
@@ -25,30 +25,6 @@ namespace {
 
 using testing::checkDrop;
 using testing::Solved;
-
-TEST(Solver, RestartsAfterAnInfeasibleEnd) {
-  const Problem p = loadProblem("point_mass_drop", {{"restitution", 0.5}});
-  const Transcription t(p, Method::Impulsive);
-  SolveOptions o;
-  o.restarts = 3;
-  std::vector<int> asked;
-  const SolveReport r = solve(
-      t,
-      [&](int k) {
-        asked.push_back(k);
-        Seed s{seedFromSimulation(t), true};  // solves (PointMassDropHalfElastic)
-        if (k == 0) s.x[t.layout()[3].points[1].q] = std::nan("");  // attempt 0 cannot even start
-        return s;
-      },
-      o);
-  EXPECT_EQ(asked, (std::vector<int>{0, 1}));
-  ASSERT_EQ(r.attempts.size(), 2u);
-  EXPECT_FALSE(r.attempts[0].feasible);
-  EXPECT_TRUE(r.attempts[1].feasible);
-  EXPECT_TRUE(r.feasible);
-  EXPECT_EQ(r.iterations, r.attempts[0].iterations + r.attempts[1].iterations);
-  EXPECT_LE(r.largest_product, p.complementarity_tolerance);
-}
 
 // A feasibility stage that ends just above the tolerance is tightened. The inelastic drop from
 // the perturbed simulation seed 5 ends at a local minimum of the penalty with a few small
