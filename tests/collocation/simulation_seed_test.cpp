@@ -162,20 +162,32 @@ TEST(SimulationSeed, HintsAreCheckedAgainstTheUnactuatedMotion) {
 namespace saltus::collocation {
 namespace scheduled_seed_test {
 
+// The drop of Fig. 3 with its vertical force as an input (within ±30 N), pushed up by a schedule:
+// 2 m g (a net g upwards) until t_push, then nothing, to the horizon.
+struct PushedDrop {
+  Problem problem;
+  InputSchedule schedule;
+};
+PushedDrop pushedDrop(double height, double t_push, double horizon) {
+  PushedDrop d{testing::pointMassDrop(0.0, height), {}};
+  d.problem.h_max = 0.05;
+  d.problem.inputs = {0};
+  d.problem.input_lower = Eigen::VectorXd::Constant(1, -30);
+  d.problem.input_upper = Eigen::VectorXd::Constant(1, 30);
+  d.schedule.times = {0, t_push, horizon};
+  d.schedule.values = {Eigen::VectorXd::Constant(1, 2 * kGravity), Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1)};
+  return d;
+}
+
 // The drop of Fig. 3 pushed up by an input schedule: 2 m g for 0.09 s (a net g upwards), then
 // nothing, over a horizon of 0.6 s. The seed follows the exact motion (θ = ½ integrates constant
 // forces exactly, the change lies on a step's end), lands at the analytic time, carries the
 // schedule's inputs at its points, and its elements start at the horizon over N.
 TEST(SimulationSeed, AnInputScheduleDrivesTheSimulation) {
   const double g = 9.81, height = 0.1, t_push = 0.09, horizon = 0.6;
-  Problem p = testing::pointMassDrop(0.0, height);
-  p.h_max = 0.05;
-  p.inputs = {0};
-  p.input_lower = Eigen::VectorXd::Constant(1, -30);
-  p.input_upper = Eigen::VectorXd::Constant(1, 30);
-  InputSchedule schedule;
-  schedule.times = {0, t_push, horizon};
-  schedule.values = {Eigen::VectorXd::Constant(1, 2 * g), Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1)};
+  const PushedDrop drop = pushedDrop(height, t_push, horizon);
+  const Problem& p = drop.problem;
+  const InputSchedule& schedule = drop.schedule;
   const Transcription t(p, Method::Impulsive);
   SimulationSeedReport report;
   const Eigen::VectorXd x = seedFromSimulation(t, &report, &schedule);
@@ -269,7 +281,7 @@ TEST(SimulationSeed, TheOllieScheduleSeedsAnOllie) {
 }  // namespace saltus::collocation
 
 namespace saltus::collocation {
-namespace resimulation_test {
+namespace scheduled_seed_test {
 
 // Re-simulation (seedFromResimulation): the drop pushed up by a schedule, its seed's inputs made
 // a schedule again (scheduleFromInputs) and simulated anew. The schedule holds each collocation
@@ -278,14 +290,9 @@ namespace resimulation_test {
 // the analytic time of that push.
 TEST(SimulationSeed, AResimulationReplaysThePointsInputs) {
   const double g = 9.81, height = 0.1, t_push = 0.09, horizon = 0.6;
-  Problem p = testing::pointMassDrop(0.0, height);
-  p.h_max = 0.05;
-  p.inputs = {0};
-  p.input_lower = Eigen::VectorXd::Constant(1, -30);
-  p.input_upper = Eigen::VectorXd::Constant(1, 30);
-  InputSchedule schedule;
-  schedule.times = {0, t_push, horizon};
-  schedule.values = {Eigen::VectorXd::Constant(1, 2 * g), Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1)};
+  const PushedDrop drop = pushedDrop(height, t_push, horizon);
+  const Problem& p = drop.problem;
+  const InputSchedule& schedule = drop.schedule;
   const Transcription t(p, Method::Impulsive);
   Eigen::VectorXd x = seedFromSimulation(t, nullptr, &schedule);
   // An input beyond its bound (as Ipopt's relaxed bounds allow) is held at the bound.
@@ -333,5 +340,5 @@ TEST(SimulationSeed, AResimulationNeedsInputs) {
   EXPECT_THROW(scheduleFromInputs(t, seedFromSimulation(t)), std::invalid_argument);
 }
 
-}  // namespace resimulation_test
+}  // namespace scheduled_seed_test
 }  // namespace saltus::collocation
