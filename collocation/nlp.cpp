@@ -31,14 +31,12 @@ const char* toString(Stage s) {
   return "?";
 }
 
-Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start)
+Nlp::Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start, bool hinted)
     : t_(t), stage_(stage), x0_(x0), start_(std::move(start)) {
-  if (stage == Stage::Feasibility || stage == Stage::Penalty) {
-    x_lower_ = t.hintedLower();
-    x_upper_ = t.hintedUpper();
-  } else {
-    x_lower_ = t.variableLower();
-    x_upper_ = t.variableUpper();
+  const bool first_stage = stage == Stage::Feasibility || stage == Stage::Penalty;
+  x_lower_ = first_stage && hinted ? t.hintedLower() : t.variableLower();
+  x_upper_ = first_stage && hinted ? t.hintedUpper() : t.variableUpper();
+  if (!first_stage) {
     // ε ≤ the tolerance, less a margin: Ipopt meets A·B − ε ≤ 0 only to its constraint
     // tolerance, and a solution is judged by A·B ≤ tolerance (solver.hpp).
     boundProducts(kPenaltyBoundFraction * t.problem().complementarity_tolerance);

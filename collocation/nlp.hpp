@@ -48,7 +48,8 @@ class Nlp : public Ipopt::TNLP {
  public:
   // With `start` (non-empty) the multipliers are handed to Ipopt too, for
   // warm_start_init_point = yes.
-  Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start = {});
+  // hinted: a first stage (feasibility, penalty) within the hints' bounds (Transcription::hintedLower).
+  Nlp(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, Multipliers start = {}, bool hinted = true);
 
   // Results of the last solve.
   const Eigen::VectorXd& solution() const { return x_; }

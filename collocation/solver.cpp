@@ -192,6 +192,12 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
   if (stage == Stage::Task)
     for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
+  if (first_stage && options.warm_seed && options.keep_warm_start) {
+    app->Options()->SetNumericValue("mu_init", 1e-4);
+    app->Options()->SetStringValue("mu_strategy", "monotone");
+    app->Options()->SetNumericValue("bound_push", 1e-6);
+    app->Options()->SetNumericValue("bound_frac", 1e-6);
+  }
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");
@@ -200,7 +206,7 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   tuneProcessForSolves();
   resetOrderingRandomness();
 
-  Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start);
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(t, stage, x0, start, options.hints);
   nlp->setInterruption(options.interrupted);
   const double tolerance = step_tolerance > 0 ? step_tolerance : t.problem().complementarity_tolerance;
   if (stage == Stage::Tighten) nlp->boundProducts(kPenaltyBoundFraction * tolerance);
@@ -305,7 +311,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
-  const bool task_follows = has_task || !t.problem().hints.empty();
+  const bool task_follows = has_task || (options.hints && !t.problem().hints.empty());
   // A feasibility stage (or the penalty stage) from `from`, then, for a feasibility stage, the
   // tightening stage when tightensAfter says so. x is the point reached; returns whether it is
   // feasible.
@@ -428,6 +434,8 @@ SolveReport solve(const Transcription& t, const SeedFunction& seed, const SolveO
   const auto attempt = [&](const Seed& start, int k, int r) {
     SolveOptions o = options;
     o.warm_seed = options.warm_seed || start.warm;
+    o.keep_warm_start = options.keep_warm_start || (start.warm && start.keep_warm_start);
+    o.hints = options.hints && start.hinted;
     total = solve(t, start.x, o);
     wall += total.wall_seconds;
     eval += total.evaluation_seconds;

@@ -87,6 +87,12 @@ struct SolveReport {
 struct Seed {
   Eigen::VectorXd x;
   bool warm = false;
+  // The problem's hints bound its first stage. A re-simulated seed has none: it carries the
+  // motion the inputs found, and a hint chosen for a cold seed would pull it off that motion.
+  bool hinted = true;
+  // A warm seed whose start (SolveOptions::warm_seed) holds over the Ipopt options given for the
+  // solve: a re-simulated seed's, whose solve's options were chosen for the cold seeds before it.
+  bool keep_warm_start = false;
 };
 
 struct SolveOptions {
@@ -100,6 +106,11 @@ struct SolveOptions {
   // small barrier parameter (Ipopt's monotone strategy from mu_init 1e-4) and keeps the seed close
   // to its bounds, as the tightening stages do.
   bool warm_seed = false;
+  // The warm start above (mu_init, the monotone barrier, bound_push and bound_frac 1e-6) over the
+  // problem's and the caller's Ipopt options in the first stage (Seed::keep_warm_start).
+  bool keep_warm_start = false;
+  // The problem's hints bound the first stage (Seed::hinted).
+  bool hints = true;
   // Largest violation of a constraint's bounds at a feasible point, in the constraints' own SI
   // units (metres, m/s, N·s). Ipopt's constr_viol_tol (1e-8 here) applies to its scaled problem:
   // a biped's feasibility stage that Ipopt solved ended 1.05e-6 off in SI units.

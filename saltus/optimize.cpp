@@ -137,7 +137,8 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
       solve.resimulations = adjusted.resimulations;
       solve.resimulate = [&t](const Eigen::VectorXd& end) -> std::optional<collocation::Seed> {
         try {
-          return collocation::Seed{collocation::seedFromResimulation(t, end), true};
+          // warm, without the hints, in the warm start's own barrier and bound push
+          return collocation::Seed{collocation::seedFromResimulation(t, end), true, false, true};
         } catch (const std::runtime_error&) {  // the time-stepper failed: no such attempt
           return std::nullopt;
         }

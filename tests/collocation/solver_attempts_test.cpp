@@ -1,5 +1,6 @@
 // The solver's attempts (collocation/solver.hpp): restarts from the seed function after an
-// infeasible end, and the chain of re-simulated attempts (SolveOptions::resimulate) before them.
+// infeasible end, and the chain of re-simulated attempts (SolveOptions::resimulate) before them,
+// which start without the hints and from the warm start's own barrier.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -115,6 +116,35 @@ TEST(Solver, AFailedResimulationEndsItsChain) {
       }
     }
   }
+}
+
+// A re-simulated seed (Seed::hinted false, keep_warm_start true) starts without the hints and in
+// the warm start's own barrier over the options given for the solve. The hint puts the dropped
+// mass on the ground at [2, 1], within 0.04 s of its release from 0.1 m (it lands at 0.143 s):
+// a first stage within it cannot meet the equations of motion; without it the simulation seed is
+// a solution at once, and no task stage follows (the drop has no task cost; hints would call one).
+TEST(Solver, AResimulatedSeedDropsTheHintsAndKeepsItsWarmStart) {
+  Problem p = loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  p.hints.push_back({{Quantity::Kind::Gap, 0}, 1, 1, 0.0, 0.0, "test"});
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd simulated = seedFromSimulation(t);
+  SolveOptions o;
+  o.ipopt["mu_strategy"] = "adaptive";  // chosen for a cold seed
+  o.ipopt["bound_push"] = "0.01";
+  o.ipopt["max_iter"] = "100";  // the hinted stage cannot succeed; the unhinted one needs few
+  const auto from = [&](const Seed& s) { return solve(t, [&](int) { return s; }, o); };
+
+  const SolveReport hinted = from(Seed{simulated, true});
+  ASSERT_FALSE(hinted.stages.empty());
+  EXPECT_GT(hinted.stages.front().largest_violation, 1e-3) << "the hint holds in the first stage";
+  EXPECT_EQ(hinted.stages.front().barrier, "adaptive") << "the options given hold over a warm seed's start";
+
+  const SolveReport resimulated = from(Seed{simulated, true, false, true});
+  ASSERT_EQ(resimulated.stages.size(), 1u) << "without the hints no task stage follows (no task cost)";
+  EXPECT_EQ(resimulated.stages.front().barrier, "monotone");
+  EXPECT_TRUE(resimulated.feasible);
+  const auto& point = t.layout()[1].points[1];
+  EXPECT_GT(resimulated.x[point.q], 0.09) << "the mass is still falling at [2, 1], off the hint";
 }
 
 }  // namespace
