@@ -134,6 +134,11 @@ void checkIpoptOption(const std::string& name, const std::string& value) {
 
 namespace {
 
+// The start of every stage's point within its bounds (Ipopt's bound_push and bound_frac), and the
+// barrier parameter of a stage that starts near a solution (runStage explains both).
+constexpr double kBoundPush = 1e-6;
+constexpr double kWarmMuInit = 1e-4;
+
 StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd& x0, const Multipliers& start,
                      const SolveOptions& options, Eigen::VectorXd& x_out, Multipliers& multipliers_out,
                      SolveReport& report, bool stop_when_feasible = false, double step_tolerance = -1) {
@@ -159,12 +164,12 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   // Ipopt moves the starting point at least bound_push (default 1e-2) inside every bound: large
   // next to gaps of millimetres and impulses of a few N s. 1e-6 took the paper's perturbed seeds
   // from 9 to 16 successes of 40 on the built-in problems (bench/sweeps/perturbed_seeds.yaml).
-  app->Options()->SetNumericValue("bound_push", 1e-6);
-  app->Options()->SetNumericValue("bound_frac", 1e-6);
+  app->Options()->SetNumericValue("bound_push", kBoundPush);
+  app->Options()->SetNumericValue("bound_frac", kBoundPush);
   const bool first_stage = stage == Stage::Feasibility || stage == Stage::Penalty;
   // A stage that starts near a solution (a tightening step or the task stage from the stage
   // before, or a first stage from a warm seed) starts at a small barrier parameter.
-  if (!first_stage || options.warm_seed) app->Options()->SetNumericValue("mu_init", 1e-4);
+  if (!first_stage || options.warm_seed) app->Options()->SetNumericValue("mu_init", kWarmMuInit);
   // Ipopt's adaptive strategy ignores it (its oracle chooses its own), so the stages that only
   // restore feasibility from near a solution run under the monotone strategy, which keeps it: from
   // a warm seed the adaptive strategy's first barrier parameter was 50 on the drop and walked a
@@ -192,11 +197,11 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
   if (stage == Stage::Task)
     for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
-  if (first_stage && options.warm_seed && options.keep_warm_start) {
-    app->Options()->SetNumericValue("mu_init", 1e-4);
+  if (first_stage && options.warm_seed && options.keep_warm_start) {  // the warm start above, again
+    app->Options()->SetNumericValue("mu_init", kWarmMuInit);
     app->Options()->SetStringValue("mu_strategy", "monotone");
-    app->Options()->SetNumericValue("bound_push", 1e-6);
-    app->Options()->SetNumericValue("bound_frac", 1e-6);
+    app->Options()->SetNumericValue("bound_push", kBoundPush);
+    app->Options()->SetNumericValue("bound_frac", kBoundPush);
   }
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);
