@@ -82,6 +82,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   options.seed_scale = opt.seed_scale;
   options.restarts = opt.restarts;
   options.resimulations = opt.resimulations;
+  options.resimulation_tracking = opt.resimulation_tracking;
   const auto hessian = [](const std::string& flag, const std::string& kind, std::optional<bool>& exact) {
     if (kind.empty()) return;
     if (kind != "exact" && kind != "limited-memory")
@@ -222,6 +223,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--resimulations", opt->resimulations,
                   "after an attempt that ends infeasible, up to this many further attempts, each from the "
                   "time-stepper's motion under the previous attempt's inputs (problems with inputs)");
+  app->add_option("--resimulation-tracking", opt->resimulation_tracking,
+                  "in a re-simulation the inputs also track the previous attempt's motion of their coordinates, "
+                  "critically damped at this natural frequency [rad/s] (default 30; 0: the inputs alone)");
   app->add_option("--tighten-within", opt->tighten_within,
                   "tighten (every product bounded by 0.9 x the tolerance) a solve ending infeasible with products "
                   "within this many times the tolerance (default: always; 0: never)");

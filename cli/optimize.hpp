@@ -22,6 +22,7 @@ struct OptimizeCliOptions {
   std::optional<double> seed_scale;
   std::optional<int> restarts;
   std::optional<int> resimulations;
+  std::optional<double> resimulation_tracking;
   std::optional<double> tighten_within;
   std::optional<double> tighten_factor;
   std::optional<int> task_max_iter;

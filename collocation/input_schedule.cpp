@@ -14,6 +14,20 @@ const Eigen::VectorXd& InputSchedule::at(double t) const {
   return values[it == times.begin() ? 0 : static_cast<std::size_t>(it - times.begin()) - 1];
 }
 
+void Tracking::reference(double t, Eigen::VectorXd& q_out, Eigen::VectorXd& v_out) const {
+  const auto it = std::upper_bound(times.begin(), times.end(), t);  // the first sample after t
+  if (it == times.begin() || it == times.end()) {
+    const std::size_t i = it == times.begin() ? 0 : times.size() - 1;
+    q_out = q[i];
+    v_out = v[i];
+    return;
+  }
+  const auto i = static_cast<std::size_t>(it - times.begin());  // times[i - 1] <= t < times[i]
+  const double w = (t - times[i - 1]) / (times[i] - times[i - 1]);
+  q_out = (1 - w) * q[i - 1] + w * q[i];
+  v_out = (1 - w) * v[i - 1] + w * v[i];
+}
+
 InputSchedule readInputSchedule(const std::string& path, const Problem& p) {
   const int nu = static_cast<int>(p.inputs.size());
   if (nu == 0)

@@ -12,6 +12,7 @@
 // must lie within its input's bounds.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,10 +28,24 @@ struct InputScheduleError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Feedback on a schedule (a re-simulation's, simulation_seed.hpp): each input also pulls its own
+// coordinate towards a reference motion, u_i = ū_i(t) + kp_i (q_ref,i(t) − q_i) + kd_i (v_ref,i(t) − v_i),
+// clamped to the input's bounds, where ū is the schedule's value. The reference is linear between
+// its samples; two samples at one time are a velocity jump (before, then after).
+struct Tracking {
+  std::vector<double> times;        // nondecreasing from 0 [s]
+  std::vector<Eigen::VectorXd> q, v;  // per sample, the inputs' coordinates' positions and rates
+  Eigen::VectorXd kp, kd;           // per input [N/m or N m/rad; N s/m or N m s/rad]
+
+  // The reference at t (after a jump at t; the first sample before 0, the last after the end).
+  void reference(double t, Eigen::VectorXd& q_out, Eigen::VectorXd& v_out) const;
+};
+
 struct InputSchedule {
   std::string path;
   std::vector<double> times;            // strictly increasing from 0; the last: the horizon [s]
   std::vector<Eigen::VectorXd> values;  // per row, the problem's inputs (Problem::inputs' order)
+  std::optional<Tracking> tracking;     // none: open loop
 
   double horizon() const { return times.back(); }
   // The inputs held at time t: the last row whose time is ≤ t (the first row before 0).

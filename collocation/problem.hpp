@@ -129,6 +129,9 @@ struct Problem {
   // time-stepper's motion under the previous attempt's inputs (seedFromResimulation; SolveOptions::
   // resimulations): a chain before the next restart.
   int resimulations = 0;
+  // A re-simulation's inputs also track the attempt's motion of their coordinates, with the gains
+  // of this natural frequency [rad/s] (trackingFromPoint; 0: open loop, the inputs alone).
+  double resimulation_tracking = 30;
   std::string seed_solution;  // directory or trajectory.csv of an earlier solution (SeedKind::Solution)
   std::string seed_solution_origin;  // where it was given (file:line: solve.seed_solution, or --seed-from)
   // An open-loop input schedule that drives a simulation seed (input_schedule.hpp; empty: the

@@ -21,7 +21,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   if (!node.IsDefined()) return;
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
-               "seed_inputs", "restarts", "resimulations", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
+               "seed_inputs", "restarts", "resimulations", "resimulation_tracking", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
                "impulsive", "continuous", "first-order"},
               true);
   if (node.IsNull()) return;
@@ -54,6 +54,10 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     if (p_.resimulations < 0)
       r_.fail(s, "solve.resimulations", "expected a non-negative integer, got " + std::to_string(p_.resimulations));
   }
+  p_.resimulation_tracking = r_.number(node, "solve", "resimulation_tracking", p_.resimulation_tracking);
+  if (!(p_.resimulation_tracking >= 0))
+    r_.fail(node["resimulation_tracking"], "solve.resimulation_tracking",
+            "expected a natural frequency >= 0 rad/s (0: open loop), got " + fmt(p_.resimulation_tracking));
   // A file named relative to the problem file, and where it was given.
   for (auto [key, path, where] : {std::tuple{"seed_solution", &p_.seed_solution, &p_.seed_solution_origin},
                                   std::tuple{"seed_inputs", &p_.seed_inputs, &p_.seed_inputs_origin}}) {

@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "collocation/interpolation.hpp"
+#include "collocation/solution.hpp"
+#include "dynamics/dynamics.hpp"
 #include "timestepper/stepper.hpp"
 
 namespace saltus::collocation {
@@ -21,6 +23,7 @@ struct Simulated {
   std::vector<bool> impact;                                // step k is impulsive
   std::vector<double> impact_time;                         // of an impulsive step: when in it the contact closes
   std::vector<double> transitions;  // times a contact opened, closed without impact, stuck or began to slide
+  std::vector<Eigen::VectorXd> u;   // a tracking schedule's inputs over step k (empty: the schedule's own)
 
   long steps() const { return static_cast<long>(impact.size()); }
   long stepAt(double t) const { return std::clamp(static_cast<long>(std::floor(t / dt)), 0L, steps() - 1); }
@@ -121,6 +124,8 @@ class ModeTracker {
 // With a schedule, step k is driven by the scene's constant input plus the schedule's inputs at
 // its middle, (k + ½) dt, on the problem's actuated coordinates: a change within a step acts from
 // the nearer of its ends, and one on a step's end from that end, whatever the rounding of k dt.
+// A tracking schedule adds its feedback on the state at the step's start (its reference at the
+// step's middle) and clamps to the inputs' bounds; what it applied is kept (Simulated::u).
 Simulated simulate(const scene::Scene& scene, double dt, double duration, const Problem& p,
                    const InputSchedule* schedule = nullptr) {
   timestepper::StepperOptions o;
@@ -139,10 +144,23 @@ Simulated simulate(const scene::Scene& scene, double dt, double duration, const 
   try {
     const int nv = scene.model.nv();
     const Eigen::VectorXd tau_base = scene.tau.size() == nv ? scene.tau : Eigen::VectorXd::Zero(nv);
-    Eigen::VectorXd tau(nv);
+    Eigen::VectorXd tau(nv), u, q_ref, v_ref;
+    const Tracking* tracking = schedule && schedule->tracking ? &*schedule->tracking : nullptr;
     for (long k = 0; k < K; ++k) {
       if (schedule) {
-        const Eigen::VectorXd& u = schedule->at((static_cast<double>(k) + 0.5) * dt);
+        const double middle = (static_cast<double>(k) + 0.5) * dt;
+        u = schedule->at(middle);
+        if (tracking) {
+          tracking->reference(middle, q_ref, v_ref);
+          for (std::size_t i = 0; i < p.inputs.size(); ++i) {
+            const auto j = static_cast<Eigen::Index>(i);
+            const int c = p.inputs[i];
+            u[j] += tracking->kp[j] * (q_ref[j] - stepper.q()[scene.model.positionOf(c)]) +
+                    tracking->kd[j] * (v_ref[j] - stepper.v()[c]);
+          }
+          u = u.cwiseMax(p.input_lower).cwiseMin(p.input_upper);
+          s.u.push_back(u);
+        }
         tau = tau_base;
         for (std::size_t i = 0; i < p.inputs.size(); ++i) tau[p.inputs[i]] += u[static_cast<Eigen::Index>(i)];
         stepper.setInput(tau);
@@ -317,7 +335,9 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
       x.segment(pt.q, nv) = q;
       x.segment(pt.v, nv) = v - (1 - L.tau[pi]) * jump;
       if (pt.u >= 0 && nu > 0) {
-        if (schedule)
+        if (!sim.u.empty())
+          x.segment(pt.u, nu) = sim.u[static_cast<std::size_t>(sim.stepAt(time))];
+        else if (schedule)
           x.segment(pt.u, nu) = schedule->at(time);
         else
           x.segment(pt.u, nu).setZero();
@@ -463,8 +483,41 @@ InputSchedule scheduleFromInputs(const Transcription& t, const Eigen::VectorXd& 
   return s;
 }
 
-Eigen::VectorXd seedFromResimulation(const Transcription& t, const Eigen::VectorXd& x, SimulationSeedReport* report) {
-  const InputSchedule schedule = scheduleFromInputs(t, x);
+Tracking trackingFromPoint(const Transcription& t, const Eigen::VectorXd& x, double omega) {
+  const Problem& p = t.problem();
+  const auto& model = t.models().model<double>();
+  const int m = static_cast<int>(p.inputs.size());
+  if (m == 0) throw std::invalid_argument("tracking a point's motion needs a problem with inputs");
+  if (!(omega > 0)) throw std::invalid_argument("tracking: expected a natural frequency > 0 rad/s");
+  Tracking tr;
+  for (const Sample& s : trajectory(t, x)) {
+    Eigen::VectorXd q(m), v(m);
+    for (int i = 0; i < m; ++i) {
+      q[i] = s.q[model.positionOf(p.inputs[i])];
+      v[i] = s.v[p.inputs[i]];
+    }
+    tr.times.push_back(s.t);
+    tr.q.push_back(std::move(q));
+    tr.v.push_back(std::move(v));
+  }
+  // Each coordinate a critically damped oscillator of natural frequency ω on its own inertia
+  // (the diagonal of M(q0), RBDA §6.2), the rest of the system held still.
+  dynamics::Data<double> data(model);
+  const Eigen::MatrixXd& M = dynamics::crba(model, data, p.scene.q0);
+  tr.kp.resize(m);
+  tr.kd.resize(m);
+  for (int i = 0; i < m; ++i) {
+    const double inertia = M(p.inputs[i], p.inputs[i]);
+    tr.kp[i] = inertia * omega * omega;
+    tr.kd[i] = 2 * inertia * omega;
+  }
+  return tr;
+}
+
+Eigen::VectorXd seedFromResimulation(const Transcription& t, const Eigen::VectorXd& x, SimulationSeedReport* report,
+                                     double tracking) {
+  InputSchedule schedule = scheduleFromInputs(t, x);
+  if (tracking > 0) schedule.tracking = trackingFromPoint(t, x, tracking);
   return seedFromSimulation(t, report, &schedule);
 }
 

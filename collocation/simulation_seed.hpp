@@ -52,13 +52,23 @@ Eigen::VectorXd seedFromSimulation(const Transcription& t, SimulationSeedReport*
 // 1e-8); the horizon is x's total time. Throws std::invalid_argument for a problem without inputs.
 InputSchedule scheduleFromInputs(const Transcription& t, const Eigen::VectorXd& x);
 
+// The motion of x's actuated coordinates (its trajectory's samples) as a reference for its inputs
+// to track: each input's gains those of a critically damped oscillator of natural frequency
+// omega [rad/s] on its coordinate's inertia at the initial state (the diagonal of M(q0)).
+// Throws std::invalid_argument for a problem without inputs or omega ≤ 0.
+Tracking trackingFromPoint(const Transcription& t, const Eigen::VectorXd& x, double omega);
+
 // Re-simulation: the simulation seed under x's inputs (scheduleFromInputs). From the end of a
 // failed solve, the time-stepper's motion under its inputs is a physically consistent point
 // (every product zero, each impact a real one) near what the optimiser was doing; what it
 // violates is the task's constraints, which a solve from there can pull in (README, "The Ollie").
+// With tracking > 0 the inputs also track x's motion of their coordinates (trackingFromPoint,
+// natural frequency tracking [rad/s]): open loop, the motion under the inputs of a point that
+// relaxes its contacts drifts from it; the feedback keeps the actuated coordinates on it, and the
+// rest follows through real contacts. The seed's inputs are then the ones applied.
 // Throws as seedFromSimulation.
 Eigen::VectorXd seedFromResimulation(const Transcription& t, const Eigen::VectorXd& x,
-                                     SimulationSeedReport* report = nullptr);
+                                     SimulationSeedReport* report = nullptr, double tracking = 0);
 
 // Whether a hint that closes a contact (a gap bound ≤ 1e-6 at [n, p]) can be met by the
 // problem's own motion: the mesh point can lie anywhere in [earliest, latest] (the element

@@ -72,6 +72,11 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
     if (*options.resimulations < 0) throw std::invalid_argument("resimulations: expected a non-negative integer");
     problem.resimulations = *options.resimulations;
   }
+  if (options.resimulation_tracking) {
+    if (!(*options.resimulation_tracking >= 0))
+      throw std::invalid_argument("resimulation_tracking: expected a natural frequency >= 0 rad/s (0: open loop)");
+    problem.resimulation_tracking = *options.resimulation_tracking;
+  }
   if (options.exact_hessian) problem.exact_hessian = problem.feasibility_exact_hessian = *options.exact_hessian;
   if (options.feasibility_exact_hessian) problem.feasibility_exact_hessian = *options.feasibility_exact_hessian;
   problem.derivative_check = problem.derivative_check || options.derivative_check;
@@ -135,10 +140,11 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     solve.restarts = seeding.restarts;
     if (adjusted.resimulations > 0 && !adjusted.inputs.empty()) {
       solve.resimulations = adjusted.resimulations;
-      solve.resimulate = [&t](const Eigen::VectorXd& end) -> std::optional<collocation::Seed> {
+      solve.resimulate = [&t, tracking = adjusted.resimulation_tracking](const Eigen::VectorXd& end)
+          -> std::optional<collocation::Seed> {
         try {
           // warm, without the hints, in the warm start's own barrier and bound push
-          return collocation::Seed{collocation::seedFromResimulation(t, end), true, false, true};
+          return collocation::Seed{collocation::seedFromResimulation(t, end, nullptr, tracking), true, false, true};
         } catch (const std::runtime_error&) {  // the time-stepper failed: no such attempt
           return std::nullopt;
         }
@@ -199,6 +205,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;
   j["resimulations"] = problem.resimulations;
+  j["resimulation_tracking"] = problem.resimulation_tracking;
   j["penalty_iterations"] = problem.penalty_iterations;  // as solved: the method's own, or the options'
   j["task_penalty"] = problem.task_penalty;
   j["penalty_weight"] = problem.cost.penalty_weight;

@@ -152,6 +152,7 @@ struct OptimizeOptions {
   std::optional<double> seed_scale;             // size of the random perturbation (≥ 0)
   std::optional<int> restarts;                  // further attempts after an infeasible end (≥ 0)
   std::optional<int> resimulations;             // re-simulated attempts after each infeasible one (≥ 0)
+  std::optional<double> resimulation_tracking;  // their inputs' feedback on the attempt's motion [rad/s] (0: none)
   std::optional<bool> exact_hessian;            // every stage's; false: limited-memory
   std::optional<bool> feasibility_exact_hessian;  // the feasibility and tightening stages' (after exact_hessian)
   bool derivative_check = false;                // Ipopt's second-order derivative checker

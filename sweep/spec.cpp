@@ -69,7 +69,7 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
 // given replaces o's, and ipopt and task_ipopt entries are added to o's.
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std::string& where) {
   const std::string prefix = where + ".";
-  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "resimulation_tracking", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], prefix + "N", 1);
@@ -79,6 +79,12 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std
   }
   if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], prefix + "restarts", 0);
   if (n["resimulations"]) o.resimulations = positiveInteger(r, n["resimulations"], prefix + "resimulations", 0);
+  if (n["resimulation_tracking"]) {
+    o.resimulation_tracking = r.number(n["resimulation_tracking"], prefix + "resimulation_tracking");
+    if (!(*o.resimulation_tracking >= 0))
+      r.fail(n["resimulation_tracking"], prefix + "resimulation_tracking",
+             "expected a natural frequency >= 0 rad/s (0: open loop)");
+  }
   if (n["hints"]) o.hints = r.boolean(n["hints"], prefix + "hints");
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], prefix + "seed_scale");
@@ -339,6 +345,8 @@ std::vector<std::string> SweepCase::optimizeArguments(const std::string& out) co
   if (o.P) a.insert(a.end(), {"--P", std::to_string(*o.P)});
   if (o.restarts) a.insert(a.end(), {"--restarts", std::to_string(*o.restarts)});
   if (o.resimulations) a.insert(a.end(), {"--resimulations", std::to_string(*o.resimulations)});
+  if (o.resimulation_tracking)
+    a.insert(a.end(), {"--resimulation-tracking", formatValue(*o.resimulation_tracking)});
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (!o.seed_from.empty()) a.insert(a.end(), {"--seed-from", o.seed_from});
   if (!o.hints) a.push_back("--no-hints");

@@ -31,6 +31,7 @@ namespace saltus::sweep {
 struct SolveSettings {
   std::optional<int> N, P, restarts, resimulations;
   std::optional<double> seed_scale;
+  std::optional<double> resimulation_tracking;  // --resimulation-tracking
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<double> tighten_factor;  // --tighten-factor
   std::optional<int> task_max_iter;      // --task-max-iter

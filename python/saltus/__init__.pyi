@@ -113,7 +113,7 @@ class Solution:
 def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Optional[int] = None,
              P: Optional[int] = None, seed: Optional[int] = None, seed_kind: Optional[str] = None,
              seed_from: str = "", seed_method: Optional[str] = None, seed_inputs: str = "", seed_scale: Optional[float] = None, restarts: Optional[int] = None,
-             resimulations: Optional[int] = None,
+             resimulations: Optional[int] = None, resimulation_tracking: Optional[float] = None,
              hessian: Optional[str] = None, feasibility_hessian: Optional[str] = None,
              ipopt: Dict[str, str] = ..., print_level: int = 0,
              tighten_within: Optional[float] = None, tighten_factor: Optional[float] = None,

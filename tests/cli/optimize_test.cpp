@@ -156,11 +156,12 @@ TEST(Optimize, FailedSolveExitsNonZeroWithIpoptStatus) {
 // before the next restart; the summary lists each attempt's restart and re-simulation index.
 TEST(Optimize, ResimulationsFollowEachFailedAttempt) {
   const fs::path dir = freshDir("resimulate");
-  auto r = runSaltus({"optimize", "ollie_simple", "--restarts", "1", "--resimulations", "1", "--ipopt", "max_iter=1",
-                      "--tighten-within", "0", "--task-max-iter", "0", "--out", dir.string()});
+  auto r = runSaltus({"optimize", "ollie_simple", "--restarts", "1", "--resimulations", "1", "--resimulation-tracking", "20",
+                      "--ipopt", "max_iter=1", "--tighten-within", "0", "--task-max-iter", "0", "--out", dir.string()});
   EXPECT_EQ(r.status, 1) << r.err;
   const nlohmann::json s = nlohmann::json::parse(readFile(dir / "summary.json"));
   EXPECT_EQ(s["resimulations"], 1);
+  EXPECT_EQ(s["resimulation_tracking"], 20.0);
   ASSERT_EQ(s["attempts"].size(), 4u) << s["attempts"].dump();
   const int expected[4][2] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}};
   for (int i = 0; i < 4; ++i) {
@@ -172,6 +173,10 @@ TEST(Optimize, ResimulationsFollowEachFailedAttempt) {
   r = runSaltus({"optimize", "ollie_simple", "--resimulations", "-1", "--out", dir.string()});
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("resimulations: expected a non-negative integer"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+  r = runSaltus({"optimize", "ollie_simple", "--resimulation-tracking", "-5", "--out", dir.string()});
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--resimulation-tracking: expected a natural frequency >= 0 rad/s"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir));
 }
 

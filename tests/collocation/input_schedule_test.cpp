@@ -73,5 +73,29 @@ TEST(InputSchedule, RefusesWhatIsNotASchedule) {
   EXPECT_NE(m.find("problem 'point_mass_drop' has none"), std::string::npos) << m;
 }
 
+// A tracking reference is linear between its samples; at a velocity jump (two samples at one
+// time) it is the one after from that time on; before the first and after the last it holds.
+TEST(InputSchedule, TrackingReferenceInterpolatesAndJumps) {
+  Tracking tr;
+  tr.times = {0, 0.1, 0.1, 0.2};
+  for (const auto& [q, v] : {std::pair{0.0, 0.0}, {1.0, 2.0}, {1.0, -2.0}, {3.0, 0.0}}) {
+    tr.q.push_back(Eigen::VectorXd::Constant(1, q));
+    tr.v.push_back(Eigen::VectorXd::Constant(1, v));
+  }
+  Eigen::VectorXd q, v;
+  const auto at = [&](double t) {
+    tr.reference(t, q, v);
+    return std::pair{q[0], v[0]};
+  };
+  EXPECT_NEAR(at(0.05).first, 0.5, 1e-15);
+  EXPECT_NEAR(at(0.05).second, 1.0, 1e-15);
+  EXPECT_EQ(at(0.1), (std::pair{1.0, -2.0}));
+  EXPECT_NEAR(at(0.15).first, 2.0, 1e-15);
+  EXPECT_NEAR(at(0.15).second, -1.0, 1e-15);
+  EXPECT_EQ(at(-1), (std::pair{0.0, 0.0}));
+  EXPECT_EQ(at(0.2), (std::pair{3.0, 0.0}));
+  EXPECT_EQ(at(1), (std::pair{3.0, 0.0}));
+}
+
 }  // namespace input_schedule_test
 }  // namespace saltus::collocation

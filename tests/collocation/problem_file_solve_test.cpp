@@ -32,6 +32,7 @@ TEST(ProblemFileSolve, EveryKeyOfTheFullFixture) {
   EXPECT_EQ(p.seed_scale, 0.2);
   EXPECT_EQ(p.random_seed, 7u);
   EXPECT_EQ(p.resimulations, 3);
+  EXPECT_EQ(p.resimulation_tracking, 15);
   EXPECT_EQ(p.seed_solution, kDataDir + "earlier/run");      // relative to the problem file
   EXPECT_EQ(p.seed_inputs, kDataDir + "scripts/push.csv");   // relative to the problem file as well
   EXPECT_EQ(p.seed_inputs_origin,
@@ -65,6 +66,10 @@ TEST(ProblemFileSolve, NegativePenaltyIterations) {
 }
 TEST(ProblemFileSolve, NegativeResimulations) {
   expectProblemError("bad_resimulations.yaml", "solve.resimulations", {"expected a non-negative integer", "got -2"});
+}
+TEST(ProblemFileSolve, NegativeResimulationTracking) {
+  expectProblemError("bad_resimulation_tracking.yaml", "solve.resimulation_tracking",
+                     {"expected a natural frequency >= 0 rad/s", "got -30"});
 }
 TEST(ProblemFileSolve, AMethodsOwnPenaltyKeys) {
   expectProblemError("bad_method_solve.yaml", "solve.continuous.penalty_iterations",

@@ -340,5 +340,69 @@ TEST(SimulationSeed, AResimulationNeedsInputs) {
   EXPECT_THROW(scheduleFromInputs(t, seedFromSimulation(t)), std::invalid_argument);
 }
 
+// A tracked re-simulation (trackingFromPoint): a point that holds the mass still at 0.1 m with
+// no input, which open loop is a fall to the ground. Its input tracks the point's height, a
+// critically damped oscillator of natural frequency ω on the mass: from rest under gravity the
+// error is e(t) = −(g/ω²)(1 − (1 + ωt) e^{−ωt}) (settling at −g/ω², no landing), and the seed
+// carries the input applied, u = −k_p e − k_d ė = m g (1 − (1 − ωt) e^{−ωt}).
+TEST(SimulationSeed, ATrackedResimulationHoldsThePointsMotionAgainstGravity) {
+  const double g = 9.81, height = 0.1, omega = 20;
+  const PushedDrop drop = pushedDrop(height, 0.09, 0.6);
+  const Problem& p = drop.problem;
+  const Transcription t(p, Method::Impulsive);
+  Eigen::VectorXd x = seedFromSimulation(t);
+  for (const ElementLayout& L : t.layout())
+    for (const auto& pt : L.points) {
+      x[pt.q] = height;
+      x[pt.v] = 0;
+      if (pt.accel_or_jump >= 0) x[pt.accel_or_jump] = 0;
+      if (pt.u >= 0) x[pt.u] = 0;
+    }
+
+  const Tracking tracking = trackingFromPoint(t, x, omega);
+  EXPECT_DOUBLE_EQ(tracking.kp[0], omega * omega);  // the mass is 1 kg
+  EXPECT_DOUBLE_EQ(tracking.kd[0], 2 * omega);
+  Eigen::VectorXd q_ref, v_ref;
+  tracking.reference(0.3, q_ref, v_ref);
+  EXPECT_DOUBLE_EQ(q_ref[0], height);
+  EXPECT_DOUBLE_EQ(v_ref[0], 0.0);
+
+  SimulationSeedReport open_loop, tracked;
+  seedFromResimulation(t, x, &open_loop);
+  EXPECT_FALSE(open_loop.events.empty());  // it lands
+  const Eigen::VectorXd seed = seedFromResimulation(t, x, &tracked, omega);
+  EXPECT_TRUE(tracked.events.empty());
+  double t0 = 0, largest = 0;
+  int checked = 0;
+  for (const ElementLayout& L : t.layout()) {
+    for (int c : L.collocation) {
+      const double time = t0 + L.tau[c] * seed[L.h];
+      const double decay = std::exp(-omega * time);
+      const double e = -g / (omega * omega) * (1 - (1 + omega * time) * decay);
+      // the feedback acts on the state at each step's start: a lag of the order of ω dt
+      EXPECT_NEAR(seed[L.points[c].q], height + e, omega * tracked.dt * g / (omega * omega)) << "t = " << time;
+      // the input applied over the step that contains the point: within a step's change of it
+      EXPECT_NEAR(seed[L.points[c].u], g * (1 - (1 - omega * time) * decay), 2 * g * omega * tracked.dt) << "t = " << time;
+      largest = std::max(largest, seed[L.points[c].u]);
+      ++checked;
+    }
+    t0 += seed[L.h];
+  }
+  EXPECT_EQ(checked, p.N * p.P);
+  EXPECT_GT(largest, g);  // the overshoot of the critically damped input, 1 + e^{−2} at ωt = 2
+}
+
+// Tracking needs a problem with inputs and a positive frequency.
+TEST(SimulationSeed, TrackingNeedsInputsAndAPositiveFrequency) {
+  const PushedDrop drop = pushedDrop(0.1, 0.09, 0.6);
+  const Transcription t(drop.problem, Method::Impulsive);
+  const Eigen::VectorXd x = seedFromSimulation(t);
+  EXPECT_THROW(trackingFromPoint(t, x, 0), std::invalid_argument);
+  EXPECT_THROW(trackingFromPoint(t, x, -1), std::invalid_argument);
+  const Problem bare = testing::pointMassDrop(0.0, 0.1);
+  const Transcription u(bare, Method::Impulsive);
+  EXPECT_THROW(trackingFromPoint(u, seedFromSimulation(u), 30), std::invalid_argument);
+}
+
 }  // namespace scheduled_seed_test
 }  // namespace saltus::collocation
