@@ -169,7 +169,7 @@ int optimizeCommand(const OptimizeCliOptions& opt) {
   const SolveReport& r = o.report;
   std::cerr << "saltus optimize: " << problem.name << ", " << toString(method) << ": "
             << (r.converged ? "feasible" : r.feasible ? "feasible, not converged" : "NOT feasible") << " ("
-            << r.stages.back().status << ", largest product "
+            << r.keptStage().status << ", largest product "
             << r.largest_product << (r.largest_product_at.empty() ? "" : " at " + r.largest_product_at) << "), " << r.iterations << " iterations, " << r.wall_seconds << " s ("
             << r.evaluation_seconds << " s evaluating"
             << (r.attempts.size() > 1 ? ", " + std::to_string(r.attempts.size()) + " attempts" : std::string()) << ") -> "

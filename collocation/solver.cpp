@@ -409,6 +409,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     }
   }
   report.x = x;
+  report.kept_stage = static_cast<int>(kept);
   const StageReport& end = report.stages[kept];
   report.largest_product = t.largestProduct(x, &report.largest_product_at);
   report.largest_violation = end.largest_violation;

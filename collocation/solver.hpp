@@ -63,6 +63,11 @@ struct AttemptReport {
 
 struct SolveReport {
   std::vector<StageReport> stages;  // of the last attempt
+  // The stage of `stages` whose point is x: the last, or an earlier one when the note says so.
+  // Its status is the solve's (a task stage of no iterations after an infeasible feasibility
+  // stage ends Maximum_Iterations_Exceeded, and the feasibility stage's point is the result).
+  int kept_stage = -1;
+  const StageReport& keptStage() const { return stages.at(kept_stage < 0 ? stages.size() - 1 : kept_stage); }
   std::vector<AttemptReport> attempts;
   // Set when the task (or tightening) stage ended at an infeasible point and the feasibility
   // stage's point was kept.

@@ -82,8 +82,8 @@ void bindOptimize(py::module_& m) {
                              "Every complementarity product and every constraint is within its tolerance at the solution.")
       .def_property_readonly("converged", [](const SolutionHandle& s) { return s.result.report.converged; },
                              "Feasible, and Ipopt solved the stage the solution comes from (minimising the task cost, if any).")
-      .def_property_readonly("status", [](const SolutionHandle& s) { return s.result.report.stages.back().status; },
-                             "Ipopt's status of the last stage.")
+      .def_property_readonly("status", [](const SolutionHandle& s) { return s.result.report.keptStage().status; },
+                             "Ipopt's status of the stage whose point is the solution.")
       .def_property_readonly(
           "summary",
           [](const SolutionHandle& s) { return py::module_::import("json").attr("loads")(summaryJson(s.result)); },
@@ -236,7 +236,7 @@ void bindOptimize(py::module_& m) {
         }
         auto solution = std::make_shared<SolutionHandle>(std::move(*result));
         if (require_feasible && !solution->result.feasible()) {
-          const std::string status = solution->result.report.stages.back().status;
+          const std::string status = solution->result.report.keptStage().status;
           PyErr_SetObject(solve_error.ptr(),
                           py::make_tuple(p->name + ": the solve ended infeasible (" + status + ", largest product " +
                                              std::to_string(solution->result.report.largest_product) + ")",

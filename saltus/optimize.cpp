@@ -193,7 +193,7 @@ std::string summaryJson(const OptimizeResult& o) {
     const SolveReport& s = o.seed_solve->report;
     j["seed_method"] = toString(o.seed_solve->transcription->method());
     j["seed_solve"] = {{"feasible", s.feasible},
-                       {"status", s.stages.empty() ? std::string() : s.stages.back().status},
+                       {"status", s.stages.empty() ? std::string() : s.keptStage().status},
                        {"largest_product", s.largest_product},
                        {"objective", s.objective},
                        {"iterations", s.iterations},
@@ -214,6 +214,9 @@ std::string summaryJson(const OptimizeResult& o) {
   j["tighten_factor"] = o.tighten_factor;
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;
+  // Ipopt's status of the stage whose point is the solution (stages[kept_stage]).
+  j["status"] = r.keptStage().status;
+  j["kept_stage"] = r.kept_stage;
   j["objective"] = r.objective;
   j["largest_product"] = r.largest_product;
   j["largest_product_at"] = r.largest_product_at;

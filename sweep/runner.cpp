@@ -186,7 +186,9 @@ SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit
   try {
     std::ifstream in(summary);
     const nlohmann::json j = nlohmann::json::parse(in);
-    r.status = j.at("stages").back().at("status").get<std::string>();
+    // The kept stage's status (a summary of an earlier version has none: its last stage's).
+    r.status = j.contains("status") ? j.at("status").get<std::string>()
+                                    : j.at("stages").back().at("status").get<std::string>();
     r.feasible = j.at("feasible").get<bool>();
     r.converged = j.value("converged", r.feasible);
     r.iterations = j.at("iterations").get<int>();

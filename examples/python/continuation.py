@@ -81,9 +81,10 @@ def input_use(solution, names):
 def describe(parameter, value, seeded_from, solution, attempt, report):
     s = solution.summary
     stages = " + ".join(str(st["iterations"]) for st in s["stages"])
+    kept = s["stages"][s.get("kept_stage", -1)]  # the stage whose point is the solution
     line = (f"{parameter} {value:g} (from {seeded_from}, attempt {attempt}): "
-            f"{'feasible' if s['feasible'] else 'infeasible'} (the {s['stages'][-1]['name']} stage: "
-            f"{s['stages'][-1]['status']}), "
+            f"{'feasible' if s['feasible'] else 'infeasible'} (the {kept['name']} stage: "
+            f"{kept['status']}), "
             f"largest product {s['largest_product']:.2g}, constraints {s['largest_violation']:.2g}, "
             f"iterations {stages}, {s['wall_seconds']:.0f} s")
     if s["feasible"] and report:

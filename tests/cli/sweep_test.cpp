@@ -65,6 +65,8 @@ TEST(CliSweep, SmallSweepWritesRecordsSummaryReportAndCharts) {
       nlohmann::json::parse(readFile(dir / "out/runs/point_mass_drop__impulsive__seed=2/solution/summary.json"));
   EXPECT_EQ(rec["iterations"], solve["iterations"]);
   EXPECT_EQ(rec["objective"], solve["objective"]);
+  EXPECT_EQ(rec["status"], solve["status"]);
+  EXPECT_EQ(solve["status"], solve["stages"][solve["kept_stage"].get<int>()]["status"]);
 
   const nlohmann::json summary = nlohmann::json::parse(readFile(dir / "out/summary.json"));
   ASSERT_EQ(summary["cells"].size(), 1u);

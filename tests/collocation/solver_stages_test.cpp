@@ -188,6 +188,11 @@ TEST(Solver, WithoutAFeasiblePointTheNearerStageEndIsKept) {
   EXPECT_EQ(r.largest_product, r.stages[0].largest_product);
   EXPECT_EQ(r.largest_violation, r.stages[0].largest_violation);
   EXPECT_NE(r.note.find("kept the feasibility stage's point"), std::string::npos) << r.note;
+  // The solve's status is the kept stage's, not the last stage's of no iterations.
+  EXPECT_EQ(r.kept_stage, 0);
+  EXPECT_EQ(r.stages[1].status, "Maximum_Iterations_Exceeded");
+  EXPECT_EQ(&r.keptStage(), &r.stages[0]);
+  EXPECT_TRUE(r.keptStage().succeeded) << r.keptStage().status;
 }
 
 // A feasibility stage stopped by its iteration limit short of the tolerance is tightened too. The
@@ -366,6 +371,7 @@ TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
   EXPECT_TRUE(r.stages[0].succeeded);
   EXPECT_EQ(r.stages[1].status, "Maximum_Iterations_Exceeded");
   EXPECT_EQ(r.stages[1].iterations, 0);
+  EXPECT_EQ(r.kept_stage, 1);  // its start is feasible: the task stage's point is the result
   EXPECT_TRUE(r.feasible) << "largest product " << r.largest_product << ", violation " << r.largest_violation;
   EXPECT_FALSE(r.converged);
   EXPECT_LE(r.largest_violation, stopped.violation_tolerance);

@@ -100,14 +100,22 @@ def test_the_inputs_use_is_read_at_the_collocation_points(script):
 def test_a_steps_line_names_the_stage_its_status_comes_from(script):
     # feasible after the tightening stage, the task stage stopped at its cap: the status is the
     # task stage's, not the solve's verdict
+    stages = [{"name": "feasibility", "iterations": 40, "status": "Solved_To_Acceptable_Level"},
+              {"name": "tightening", "iterations": 5, "status": "Solve_Succeeded"},
+              {"name": "task", "iterations": 300, "status": "Maximum_Iterations_Exceeded"}]
+
     class Solved:
         summary = {"feasible": True, "largest_product": 9e-5, "largest_violation": 2e-6, "wall_seconds": 12.0,
-                   "stages": [{"name": "feasibility", "iterations": 40, "status": "Solved_To_Acceptable_Level"},
-                              {"name": "tightening", "iterations": 5, "status": "Solve_Succeeded"},
-                              {"name": "task", "iterations": 300, "status": "Maximum_Iterations_Exceeded"}]}
+                   "stages": stages, "kept_stage": 2}
     line = script.describe("assist", 0.25, "seed", Solved(), 1, [])
     assert line == ("assist 0.25 (from seed, attempt 1): feasible (the task stage: Maximum_Iterations_Exceeded), "
                     "largest product 9e-05, constraints 2e-06, iterations 40 + 5 + 300, 12 s")
+
+    # the task stage ended infeasible and the tightening stage's point is the solution: its status
+    class Kept:
+        summary = dict(Solved.summary, kept_stage=1)
+    line = script.describe("assist", 0.25, "seed", Kept(), 1, [])
+    assert "feasible (the tightening stage: Solve_Succeeded)" in line, line
 
 
 def test_bad_arguments_name_what_was_expected(script, tmp_path, capsys):

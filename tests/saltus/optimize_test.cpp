@@ -71,6 +71,9 @@ TEST_F(ApiOptimize, TheSavedFilesAreTheResult) {
   EXPECT_EQ(j.at("largest_product").get<double>(), r.report.largest_product);
   EXPECT_EQ(j.at("stages").size(), r.report.stages.size());
   EXPECT_EQ(j.at("stages").back().at("status"), r.report.stages.back().status);
+  ASSERT_EQ(j.at("kept_stage").get<int>(), r.report.kept_stage);
+  ASSERT_GE(r.report.kept_stage, 0);
+  EXPECT_EQ(j.at("status"), j.at("stages").at(r.report.kept_stage).at("status"));
   EXPECT_EQ(j.at("parameters").at("restitution").get<double>(), 0.5);
   EXPECT_EQ(j.dump(2) + "\n", nlohmann::json::parse(saltus::summaryJson(r)).dump(2) + "\n");
 
