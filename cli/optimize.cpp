@@ -93,6 +93,7 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
   hessian("--feasibility-hessian", opt.feasibility_hessian, options.feasibility_exact_hessian);
   options.derivative_check = opt.derivative_check;
   options.hints = !opt.no_hints;
+  options.continuation = !opt.no_continuation;
   options.solve.print_level = opt.print_level;
   options.solve.ipopt = ipopt;
   options.solve.task_ipopt = task_ipopt;
@@ -252,6 +253,8 @@ Command addOptimizeCommand(CLI::App& saltus) {
                   "the feasibility and tightening stages' Hessian (after --hessian): exact or limited-memory");
   app->add_flag("--derivative-check", opt->derivative_check, "run Ipopt's second-order derivative checker");
   app->add_flag("--no-hints", opt->no_hints, "solve without the problem file's hints (its feasibility-stage aids)");
+  app->add_flag("--no-continuation", opt->no_continuation,
+                "solve without the problem file's continuation in its parameters (solve.continuation)");
   app->add_option("--print-level", opt->print_level, "Ipopt's print_level (0 = quiet)");
   app->add_option("--out", opt->out, "output directory (trajectory.csv, variables.csv, summary.json)")->required();
   return {app, [opt] { return optimizeCommand(*opt); }};

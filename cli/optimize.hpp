@@ -34,6 +34,7 @@ struct OptimizeCliOptions {
   int print_level = 0;
   bool derivative_check = false;
   bool no_hints = false;  // --no-hints
+  bool no_continuation = false;  // --no-continuation
   std::string out;
 };
 

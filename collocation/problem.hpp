@@ -11,6 +11,7 @@
 
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,6 +81,13 @@ const char* toString(SeedKind k);  // "null", "perturbed", "solution", "simulati
 SeedKind parseSeedKind(const std::string& name);
 
 enum class TotalTime { Free, Equal, AtLeast };
+
+struct Problem;
+// A step of a continuation in a problem's parameters (Problem::continuation).
+struct ContinuationStep {
+  std::map<std::string, double> parameters;  // the step's values; the others are the problem's
+  std::shared_ptr<const Problem> problem;    // the problem read with them (loadProblem)
+};
 
 struct Problem {
   std::string name;
@@ -168,6 +176,14 @@ struct Problem {
   // The task stage's own options, applied after ipopt_options in that stage only.
   std::map<std::string, std::string> task_ipopt_options;
   std::map<std::string, double> parameters;  // the named parameters in use (after --set)
+  // A continuation (homotopy) in the problem's parameters (a problem file's solve.continuation):
+  // every seed of a solve with a seed kind other than `solution` is first carried through these
+  // problems in turn, a feasibility stage on each (collocation::SolveOptions::feasibility_only)
+  // from the previous one's end, the first from the seed with the hints; the solve then starts
+  // from the last end, a warm seed without the hints (saltus::optimize). On ollie_simple, strategy
+  // 3's first stage at half gravity (the riders' forces kept in newtons) ends nearer the Ollie than
+  // at full gravity, where it ends in a local minimum (README, "The Ollie").
+  std::vector<ContinuationStep> continuation;
 };
 
 // The problem's scene with every surface velocity step on the mesh (Problem::surface_steps, a

@@ -503,7 +503,11 @@ SceneReference readSceneReference(const YamlReader& reader, const YAML::Node& ro
 
 }  // namespace
 
-Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
+namespace {
+
+// with_steps: also the problems of a continuation's steps (solve.continuation), each the file
+// read again with the step's values over the overrides; without: none (a step's own problem).
+Problem load(const std::string& name_or_path, const std::map<std::string, double>& overrides, bool with_steps) {
   const auto [path, source] = scene::resolveYamlFile(name_or_path, problemsDirectory(), "problem", "problem file");
   const YAML::Node root = scene::loadYamlFile(path, "problem file");
   Problem problem;
@@ -549,7 +553,19 @@ Problem loadProblem(const std::string& name_or_path, const std::map<std::string,
     throw scene::ScenarioError(scene::location(reader.file(), e.mark) + ": " + e.msg);
   }
   problem.fingerprint = problemFingerprint(root, problem);
+  if (!with_steps) problem.continuation.clear();
+  for (ContinuationStep& step : problem.continuation) {
+    std::map<std::string, double> values = overrides;
+    for (const auto& [name, value] : step.parameters) values[name] = value;
+    step.problem = std::make_shared<const Problem>(load(name_or_path, values, false));
+  }
   return problem;
+}
+
+}  // namespace
+
+Problem loadProblem(const std::string& name_or_path, const std::map<std::string, double>& overrides) {
+  return load(name_or_path, overrides, true);
 }
 
 }  // namespace saltus::collocation

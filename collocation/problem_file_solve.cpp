@@ -22,7 +22,7 @@ void ProblemReader::readSolve(const YAML::Node& node) {
   r_.checkMap(node, "solve",
               {"complementarity_tolerance", "task_stage", "seed", "seed_scale", "random_seed", "seed_solution",
                "seed_inputs", "restarts", "resimulations", "resimulation_tracking", "hessian", "feasibility_hessian", "derivative_check", "penalty_iterations", "task_penalty",
-               "impulsive", "continuous", "first-order"},
+               "continuation", "impulsive", "continuous", "first-order"},
               true);
   if (node.IsNull()) return;
   p_.complementarity_tolerance = r_.number(node, "solve", "complementarity_tolerance", p_.complementarity_tolerance);
@@ -73,6 +73,34 @@ void ProblemReader::readSolve(const YAML::Node& node) {
     r_.fail(node, "solve.seed_solution",
             "seed: solution needs seed_solution: the directory (or trajectory.csv) of an earlier solution, relative "
             "to the problem file");
+  // continuation: a list of steps, each a map of parameter values (loadProblem reads each step's
+  // problem); a value may be an expression of the parameters in use.
+  if (const YAML::Node c = node["continuation"]; c.IsDefined()) {
+    r_.checkSequence(c, "solve.continuation");
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const std::string at = "solve.continuation[" + std::to_string(i) + "]";
+      const YAML::Node step = c[i];
+      r_.checkNameMap(step, at);
+      if (step.IsNull() || step.size() == 0)
+        r_.fail(step, at, "a step changes at least one parameter, e.g. {g: 4.905}");
+      ContinuationStep s;
+      for (auto it = step.begin(); it != step.end(); ++it) {
+        const std::string name = it->first.Scalar();
+        if (!p_.parameters.count(name)) {
+          std::vector<std::string> known;
+          std::string list;
+          for (const auto& [k, v] : p_.parameters) {
+            known.push_back(k);
+            list += (list.empty() ? "" : ", ") + k;
+          }
+          r_.fail(it->first, at + "." + name,
+                  "no parameter '" + name + "'" + suggestion(name, known) + "; the parameters are: " + list);
+        }
+        s.parameters[name] = r_.number(it->second, at + "." + name);
+      }
+      p_.continuation.push_back(std::move(s));
+    }
+  }
   // hessian: every stage's; feasibility_hessian: the feasibility and tightening stages'.
   for (const char* key : {"hessian", "feasibility_hessian"}) {
     const YAML::Node h = node[key];

@@ -316,7 +316,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   // The task stage runs when there is a task cost, and also when hints shaped the feasibility
   // stage: they are a seeding aid, not part of the problem.
   const bool has_task = t.problem().task_stage && t.problem().cost.hasTask();
-  const bool task_follows = has_task || (options.hints && !t.problem().hints.empty());
+  const bool task_follows = !options.feasibility_only && (has_task || (options.hints && !t.problem().hints.empty()));
   // A feasibility stage (or the penalty stage) from `from`, then, for a feasibility stage, the
   // tightening stage when tightensAfter says so. x is the point reached; returns whether it is
   // feasible.
@@ -330,7 +330,7 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     first = report.stages.back();  // a copy: later push_backs reallocate
     kept = report.stages.size() - 1;
     if (feasibleEnd(first)) return true;
-    if (stage == Stage::Penalty || report.interrupted ||
+    if (stage == Stage::Penalty || report.interrupted || options.feasibility_only ||
         !tightensAfter(first, tolerance, options.violation_tolerance, options.tighten_within))
       return false;
     // A local minimum of the penalty with products above the tolerance (often just above: on a

@@ -125,6 +125,9 @@ struct SolveOptions {
   // leaves a feasible, not converged, solution.
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
+  // The feasibility (or penalty) stage alone: no tightening and no task stage (a step of a
+  // continuation in the problem's parameters, whose end only seeds the next step).
+  bool feasibility_only = false;
   // After an attempt that ends infeasible, up to this many further attempts, each from
   // `resimulate` of the previous attempt's end point (a chain, before the next restart's seed):
   // the time-stepper's motion under that point's inputs (seedFromResimulation). Empty

@@ -171,7 +171,7 @@ void bindOptimize(py::module_& m) {
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<std::string> seed_method, const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<int> resimulations, std::optional<double> resimulation_tracking, std::optional<std::string> hessian,
          std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within, std::optional<double> tighten_factor,
-         std::optional<int> task_max_iter, std::optional<int> penalty_iterations, std::optional<bool> task_penalty, const std::map<std::string, std::string>& task_ipopt, bool hints,
+         std::optional<int> task_max_iter, std::optional<int> penalty_iterations, std::optional<bool> task_penalty, const std::map<std::string, std::string>& task_ipopt, bool hints, bool continuation,
          bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
         OptimizeOptions o;
@@ -194,6 +194,7 @@ void bindOptimize(py::module_& m) {
         o.resimulations = resimulations;
         o.resimulation_tracking = resimulation_tracking;
         o.hints = hints;
+        o.continuation = continuation;
         const auto exact = [](const char* name, const std::optional<std::string>& kind, std::optional<bool>& out) {
           if (!kind) return;
           if (*kind != "exact" && *kind != "limited-memory")
@@ -252,7 +253,7 @@ void bindOptimize(py::module_& m) {
       py::arg("resimulations") = py::none(), py::arg("resimulation_tracking") = py::none(), py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
       py::arg("print_level") = 0, py::arg("tighten_within") = py::none(), py::arg("tighten_factor") = py::none(),
       py::arg("task_max_iter") = py::none(), py::arg("penalty_iterations") = py::none(), py::arg("task_penalty") = py::none(), py::arg("task_ipopt") = std::map<std::string, std::string>{},
-      py::arg("hints") = true, py::arg("require_feasible") = false,
+      py::arg("hints") = true, py::arg("continuation") = true, py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},
       "Contact-implicit trajectory optimisation of a problem (a Problem, or a built-in name or file with `set` "
       "overrides) by a method: 'impulsive' (default), 'continuous' or 'first-order', as `saltus optimize` (seed_method: "

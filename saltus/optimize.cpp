@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "collocation/saved_solution.hpp"
+#include "saltus/format.hpp"
 #include "saltus/saltus.hpp"
 #include "scene/atomic_file.hpp"
 
@@ -97,6 +98,41 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
   return problem;
 }
 
+namespace {
+
+// The transcriptions of the problem's continuation steps, adjusted as the problem is; none when
+// the options turn it off or the seed is an earlier solution (already a point of the problem).
+struct StepTranscription {
+  std::shared_ptr<const Problem> problem;
+  std::shared_ptr<const Transcription> transcription;  // refers to *problem
+};
+std::vector<StepTranscription> continuationSteps(const Problem& adjusted, const OptimizeOptions& options,
+                                                 const Transcription& t) {
+  std::vector<StepTranscription> steps;
+  if (!options.continuation || adjusted.seed_kind == SeedKind::Solution) return steps;
+  for (std::size_t i = 0; i < adjusted.continuation.size(); ++i) {
+    const ContinuationStep& step = adjusted.continuation[i];
+    std::string values;
+    for (const auto& [name, value] : step.parameters) values += (values.empty() ? "" : ", ") + name + " = " + formatNumber(value);
+    const std::string at = "continuation[" + std::to_string(i) + "] (" + values + ")";
+    if (!step.problem) throw std::invalid_argument(at + ": the step's problem was not read (loadProblem reads it)");
+    Problem p = adjustedProblem(*step.problem, options);
+    p.continuation.clear();
+    auto problem = std::make_shared<const Problem>(std::move(p));
+    auto ts = std::make_shared<const Transcription>(*problem, options.method);
+    if (ts->variables() != t.variables() || ts->constraints() != t.constraints())
+      throw std::invalid_argument(at + ": its transcription has " + std::to_string(ts->variables()) + " variables and " +
+                                  std::to_string(ts->constraints()) + " constraints against the problem's " +
+                                  std::to_string(t.variables()) + " and " + std::to_string(t.constraints()) +
+                                  "; a step may change values (gravity, bounds, goals), not the mesh, contacts, "
+                                  "inputs or conditions");
+    steps.push_back({std::move(problem), std::move(ts)});
+  }
+  return steps;
+}
+
+}  // namespace
+
 OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) {
   // Every Ipopt option checked before any stage runs: a bad task-stage option would otherwise
   // surface after the feasibility stage.
@@ -138,6 +174,29 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     o.simulation_seed = seeding.simulation;
     o.seed_fallback = seeding.fallback;
     solve.restarts = seeding.restarts;
+    SeedFunction seed = seeding.seed;
+    const auto steps = continuationSteps(adjusted, options, t);
+    if (!steps.empty()) {
+      // Each attempt's seed through the steps: a feasibility stage on each from the previous
+      // end, the first with the hints (when the seed takes them), then the problem's own solve
+      // from the last end, warm (as from an earlier solution) and without the hints.
+      seed = [&o, &steps, &adjusted, base = seeding.seed, options = solve](int k) {
+        collocation::Seed s = base(k);
+        for (std::size_t i = 0; i < steps.size(); ++i) {
+          SolveOptions step = options;
+          step.feasibility_only = true;
+          step.restarts = step.resimulations = 0;
+          step.resimulate = nullptr;
+          step.warm_seed = options.warm_seed || s.warm;
+          step.keep_warm_start = i > 0 || (s.warm && s.keep_warm_start);
+          step.hints = options.hints && s.hinted;
+          const SolveReport r = collocation::solve(*steps[i].transcription, s.x, step);
+          o.continuation.push_back({k, static_cast<int>(i), adjusted.continuation[i].parameters, r.stages.back()});
+          s = collocation::Seed{r.x, true, false, true};
+        }
+        return s;
+      };
+    }
     if (adjusted.resimulations > 0 && !adjusted.inputs.empty()) {
       solve.resimulations = adjusted.resimulations;
       solve.resimulate = [&t, tracking = adjusted.resimulation_tracking](const Eigen::VectorXd& end)
@@ -150,7 +209,12 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
         }
       };
     }
-    o.report = collocation::solve(t, seeding.seed, solve);
+    o.report = collocation::solve(t, seed, solve);
+    for (const ContinuationStepReport& c : o.continuation) {
+      o.report.iterations += c.stage.iterations;
+      o.report.wall_seconds += c.stage.wall_seconds;
+      o.report.evaluation_seconds += c.stage.evaluation_seconds;
+    }
   }
   o.tighten_within = solve.tighten_within;
   o.tighten_factor = solve.tighten_factor;
@@ -201,6 +265,17 @@ std::string summaryJson(const OptimizeResult& o) {
                        {"evaluation_seconds", s.evaluation_seconds},
                        {"mean_local_error", o.seed_solve->mean_local_error}};
   }
+  for (const ContinuationStepReport& c : o.continuation)  // counted in the totals below
+    j["continuation"].push_back({{"attempt", c.attempt},
+                                 {"step", c.step},
+                                 {"parameters", c.parameters},
+                                 {"status", c.stage.status},
+                                 {"largest_product", c.stage.largest_product},
+                                 {"largest_product_at", c.stage.largest_product_at},
+                                 {"largest_violation", c.stage.largest_violation},
+                                 {"iterations", c.stage.iterations},
+                                 {"wall_seconds", c.stage.wall_seconds},
+                                 {"evaluation_seconds", c.stage.evaluation_seconds}});
   j["seed_scale"] = problem.seed_scale;
   j["random_seed"] = problem.random_seed;
   j["restarts"] = problem.restarts;

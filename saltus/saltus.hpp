@@ -159,6 +159,7 @@ struct OptimizeOptions {
   std::optional<int> penalty_iterations;        // the penalty stage's iteration cap (0: none; Problem)
   std::optional<bool> task_penalty;             // the task stage with the products in its cost (Problem)
   bool hints = true;                            // false: without the problem's hints (Problem::hints)
+  bool continuation = true;                     // false: without the problem's continuation (Problem::continuation)
   // Ipopt's print level and options, tightening, and an interruption check (restarts: above).
   collocation::SolveOptions solve;
 };
@@ -167,6 +168,14 @@ struct OptimizeOptions {
 // seed; restarts; the Hessian. Throws std::invalid_argument naming the field ("P: expected an
 // order from 1 to 9, got 12"; also for a print level outside 0 … 12).
 collocation::Problem adjustedProblem(collocation::Problem problem, const OptimizeOptions& options);
+
+// A step of the problem's continuation (collocation::Problem::continuation) run for a seed.
+struct ContinuationStepReport {
+  int attempt = 0;  // the solve's attempt whose seed it carried (AttemptReport::attempt)
+  int step = 0;     // its index in Problem::continuation
+  std::map<std::string, double> parameters;  // the step's values
+  collocation::StageReport stage;             // its feasibility stage (the last, after a penalty stage)
+};
 
 struct OptimizeResult {
   std::shared_ptr<const collocation::Problem> problem_ptr;           // the problem as solved
@@ -184,6 +193,9 @@ struct OptimizeResult {
   // The seed_method's solve this one started from (null without one). The report's iterations,
   // wall and evaluation seconds count both solves; its stages are this solve's.
   std::shared_ptr<const OptimizeResult> seed_solve;
+  // The continuation's steps, in the order they ran (every attempt's). The report's iterations,
+  // wall and evaluation seconds count them; its stages and attempts are the problem's own.
+  std::vector<ContinuationStepReport> continuation;
 
   const collocation::Problem& problem() const { return *problem_ptr; }
   bool feasible() const { return report.feasible; }

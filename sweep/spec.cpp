@@ -69,7 +69,7 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
 // given replaces o's, and ipopt and task_ipopt entries are added to o's.
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std::string& where) {
   const std::string prefix = where + ".";
-  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "resimulation_tracking", "seed", "seed_from", "seed_scale", "hints", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "resimulation_tracking", "seed", "seed_from", "seed_scale", "hints", "continuation", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], prefix + "N", 1);
@@ -86,6 +86,7 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std
              "expected a natural frequency >= 0 rad/s (0: open loop)");
   }
   if (n["hints"]) o.hints = r.boolean(n["hints"], prefix + "hints");
+  if (n["continuation"]) o.continuation = r.boolean(n["continuation"], prefix + "continuation");
   if (n["seed_scale"]) {
     o.seed_scale = r.number(n["seed_scale"], prefix + "seed_scale");
     if (*o.seed_scale < 0) r.fail(n["seed_scale"], prefix + "seed_scale", "expected a non-negative number");
@@ -350,6 +351,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const std::string& out) co
   if (!o.seed_kind.empty()) a.insert(a.end(), {"--seed-kind", o.seed_kind});
   if (!o.seed_from.empty()) a.insert(a.end(), {"--seed-from", o.seed_from});
   if (!o.hints) a.push_back("--no-hints");
+  if (!o.continuation) a.push_back("--no-continuation");
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (o.tighten_factor) a.insert(a.end(), {"--tighten-factor", formatValue(*o.tighten_factor)});

@@ -43,6 +43,7 @@ struct SolveSettings {
   // seed_kind or a two-step method, which choose the seed otherwise.
   std::string seed_from;
   bool hints = true;      // false: --no-hints
+  bool continuation = true;  // false: --no-continuation
   std::string hessian;              // --hessian: "", "exact" or "limited-memory"
   std::string feasibility_hessian;  // --feasibility-hessian: the same
   std::map<std::string, std::string> ipopt;  // --ipopt name=value

@@ -119,7 +119,8 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              tighten_within: Optional[float] = None, tighten_factor: Optional[float] = None,
              task_max_iter: Optional[int] = None,
              penalty_iterations: Optional[int] = None, task_penalty: Optional[bool] = None,
-             task_ipopt: Dict[str, str] = ..., hints: bool = True, require_feasible: bool = False,
+             task_ipopt: Dict[str, str] = ..., hints: bool = True, continuation: bool = True,
+             require_feasible: bool = False,
              set: Parameters = ...) -> Solution: ...
 
 def replay(solution: str, *, out: str = "", engine: str = "saltus", dt: float = 1e-4, theta: float = 0.5,

@@ -79,6 +79,36 @@ TEST(ProblemFileSolve, AMethodsOwnPenaltyKeys) {
   expectProblemError("bad_method_penalty_weight.yaml", "solve.impulsive.penalty_weight",
               {"a weight must be non-negative", "got -10"});
 }
+// solve.continuation: each step's values (expressions of the parameters in use) and its problem,
+// read again with them; a step's problem has no continuation of its own.
+TEST(ProblemFileSolve, AContinuationsStepsAreTheProblemWithTheirValues) {
+  const std::string path = kDataDir + "continuation.yaml";
+  const Problem p = loadProblem(path);
+  ASSERT_EQ(p.continuation.size(), 2u);
+  EXPECT_EQ(p.continuation[0].parameters, (std::map<std::string, double>{{"g", 9.81 / 2}, {"limit", 4}}));
+  EXPECT_EQ(p.continuation[1].parameters, (std::map<std::string, double>{{"limit", 3}}));
+  const Problem& half = *p.continuation[0].problem;
+  EXPECT_NEAR(half.scene.model.gravity.z(), -9.81 / 2, 1e-12);  // the scene's parameter
+  EXPECT_NEAR(half.input_upper[0], p.input_upper[0], 1e-9);     // 4 × 36.5 × 4.905 = 2 × 36.5 × 9.81 N
+  EXPECT_TRUE(half.continuation.empty());
+  const Problem& third = *p.continuation[1].problem;
+  EXPECT_NEAR(third.scene.model.gravity.z(), -9.81, 1e-12);
+  EXPECT_NEAR(third.input_upper[0], 3 * 36.5 * 9.81, 1e-9);
+  EXPECT_EQ(third.parameters.at("limit"), 3);
+  EXPECT_NEAR(p.input_upper[0], 2 * 36.5 * 9.81, 1e-9);  // the problem itself unchanged
+  // --set values are the steps' starting values, and stay in every step unless it changes them.
+  const Problem set = loadProblem(path, {{"limit", 1}, {"rider_mass", 40}});
+  EXPECT_EQ(set.continuation[0].parameters.at("limit"), 2);
+  EXPECT_NEAR(set.continuation[0].problem->input_upper[0], 2 * 40 * 9.81 / 2, 1e-9);
+  EXPECT_NEAR(set.continuation[1].problem->input_upper[0], 3 * 40 * 9.81, 1e-9);
+}
+TEST(ProblemFileSolve, AContinuationStepNamingNoParameter) {
+  expectProblemError("bad_continuation_parameter.yaml", "solve.continuation[0].heigth",
+                     {"no parameter 'heigth'", "did you mean 'height'", "the parameters are: height"});
+}
+TEST(ProblemFileSolve, AnEmptyContinuationStep) {
+  expectProblemError("bad_continuation_empty.yaml", "solve.continuation[1]", {"a step changes at least one parameter"});
+}
 TEST(ProblemFileSolve, SeedSolutionWithoutPath) {
   expectProblemError("seed_solution_missing.yaml", "solve.seed_solution", {"seed: solution needs seed_solution"});
 }

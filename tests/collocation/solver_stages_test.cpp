@@ -123,6 +123,28 @@ TEST(Solver, TighteningPullsANearMissUnderTheTolerance) {
   EXPECT_NEAR(c.objective, 0.1, 1e-3);  // x_m: the drop's start
 }
 
+// SolveOptions::feasibility_only (a continuation's step): the feasibility stage alone, the same
+// stage as a full solve's first, with neither the tightening its near miss would get nor the
+// task stage its cost would.
+TEST(Solver, FeasibilityOnlyIsTheFirstStageAlone) {
+  Problem p = nearMissDrop();
+  withHeightCost(p);
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  const Eigen::VectorXd x0 = seeding.seed(0).x;
+  const SolveReport full = solve(t, x0, SolveOptions{});
+  ASSERT_GT(full.stages.size(), 1u);
+  SolveOptions only;
+  only.feasibility_only = true;
+  const SolveReport first = solve(t, x0, only);
+  ASSERT_EQ(first.stages.size(), 1u);
+  EXPECT_EQ(first.stages[0].name, "feasibility");
+  EXPECT_EQ(first.stages[0].iterations, full.stages[0].iterations);
+  EXPECT_EQ(first.stages[0].largest_product, full.stages[0].largest_product);
+  EXPECT_EQ(first.kept_stage, 0);
+  EXPECT_EQ(first.iterations, first.stages[0].iterations);
+}
+
 // A stage that only restores feasibility from near a solution (a tightening step, or a first
 // stage from a warm seed) runs under Ipopt's monotone barrier from μ₀ = 1e-4 (the adaptive
 // strategy's oracle ignores μ₀); a first stage from a cold seed, and the task stage, which

@@ -144,6 +144,22 @@ def test_hints_false_solves_without_the_problems_hints(tmp_path, root):
     assert unhinted.feasible and unhinted.summary["hints_used"] == 0
 
 
+def test_continuation_false_solves_without_the_problems_continuation(tmp_path, root):
+    """A continuation in the problem's parameters (solve.continuation): the bouncing drop's seed
+    first through the inelastic drop, each step in the summary and its iterations in the total;
+    continuation=False (--no-continuation) solves without it."""
+    path = tmp_path / "continued_drop.yaml"
+    text = (root / "models" / "problems" / "point_mass_drop.yaml").read_text()
+    path.write_text(text + "\nsolve:\n  continuation:\n    - {restitution: 0}\n")
+    continued = saltus.optimize(str(path), restarts=0, set={"restitution": 0.5})
+    steps = continued.summary["continuation"]
+    assert len(steps) == 1 and steps[0]["parameters"] == {"restitution": 0.0} and steps[0]["attempt"] == 0
+    assert continued.summary["iterations"] == steps[0]["iterations"] + sum(s["iterations"] for s in continued.summary["stages"])
+    assert continued.feasible
+    plain = saltus.optimize(str(path), restarts=0, set={"restitution": 0.5}, continuation=False)
+    assert "continuation" not in plain.summary and plain.feasible
+
+
 def test_task_ipopt_reaches_the_task_stage_only(tmp_path, root):
     """task_ipopt (--task-ipopt): Ipopt options of the task stage alone. The drop with a task cost
     (its largest height): max_iter 0 there stops the task stage at its start, the feasibility

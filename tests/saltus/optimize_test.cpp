@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "collocation/saved_solution.hpp"
+#include "collocation/seeding.hpp"
 #include "saltus/saltus.hpp"
 
 namespace {
@@ -182,6 +184,87 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
   const saltus::collocation::Problem bouncing = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
   EXPECT_EQ(adjustError(bouncing, options).rfind("seed_method: the first-order method cannot represent restitution", 0), 0u)
       << adjustError(bouncing, options);
+}
+
+// A continuation (Problem::continuation) carries each attempt's seed through its steps, a
+// feasibility stage on each, and the solve starts from the last end, warm and without hints. With
+// one step that is the problem itself (the bouncing drop, e = 0.5, from its simulation seed)
+// the step's stage is the plain solve's feasibility stage, iteration for iteration, and the solve
+// is the one from that stage's end done by hand, to the last digit. The result counts the step.
+TEST(ApiOptimizeContinuation, EachSeedIsCarriedThroughTheSteps) {
+  using saltus::collocation::Problem;
+  namespace c = saltus::collocation;
+  Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  c::ContinuationStep itself;
+  itself.parameters = {{"restitution", 0.5}};
+  itself.problem = std::make_shared<const Problem>(problem);
+  problem.continuation = {itself};
+  saltus::OptimizeOptions options;
+  options.restarts = 0;
+  const saltus::OptimizeResult r = saltus::optimize(problem, options);
+  ASSERT_EQ(r.continuation.size(), 1u);
+  const saltus::ContinuationStepReport& step = r.continuation[0];
+  EXPECT_EQ(step.attempt, 0);
+  EXPECT_EQ(step.step, 0);
+  EXPECT_EQ(step.stage.name, "feasibility");
+  EXPECT_TRUE(r.feasible()) << r.report.keptStage().status << ", products " << r.report.largest_product << " at "
+                            << r.report.largest_product_at << ", constraints " << r.report.largest_violation << " off at "
+                            << r.report.largest_violation_at << "; the step's products " << step.stage.largest_product;
+
+  saltus::OptimizeOptions plain_options = options;
+  plain_options.continuation = false;
+  const saltus::OptimizeResult plain = saltus::optimize(problem, plain_options);
+  EXPECT_TRUE(plain.continuation.empty());
+  EXPECT_EQ(plain.report.stages.front().iterations, step.stage.iterations);
+  EXPECT_EQ(plain.report.stages.front().largest_product, step.stage.largest_product);
+
+  // By hand: the step's feasibility stage from the seed, then the solve from its end.
+  const c::Transcription& t = *r.transcription;
+  const c::Seed seed = c::makeSeeding(t).seed(0);
+  c::SolveOptions only = options.solve;
+  only.feasibility_only = true;
+  only.warm_seed = seed.warm;
+  const Eigen::VectorXd end = c::solve(t, seed.x, only).x;
+  c::SolveOptions rest = options.solve;
+  const c::SolveReport by_hand = c::solve(t, [&](int) { return c::Seed{end, true, false, true}; }, rest);
+  ASSERT_EQ(by_hand.x.size(), r.report.x.size());
+  EXPECT_EQ((by_hand.x - r.report.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(by_hand.stages.front().iterations, r.report.stages.front().iterations);
+
+  int own = 0;
+  for (const auto& s : r.report.stages) own += s.iterations;
+  EXPECT_EQ(r.report.iterations, own + step.stage.iterations);
+  EXPECT_GT(r.report.wall_seconds, step.stage.wall_seconds);
+  const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(r));
+  ASSERT_EQ(j.at("continuation").size(), 1u);
+  EXPECT_EQ(j.at("continuation")[0].at("parameters").at("restitution").get<double>(), 0.5);
+  EXPECT_EQ(j.at("continuation")[0].at("iterations").get<int>(), step.stage.iterations);
+  EXPECT_EQ(j.at("continuation")[0].at("status").get<std::string>(), step.stage.status);
+  EXPECT_FALSE(nlohmann::json::parse(saltus::summaryJson(plain)).contains("continuation"));
+
+  // From an earlier solution (a point of the problem already) there is no continuation.
+  const fs::path dir = fs::temp_directory_path() / ("saltus_api_continuation_" + std::to_string(::getpid()));
+  saltus::saveSolution(dir.string(), r);
+  saltus::OptimizeOptions from = options;
+  from.seed_from = dir.string();
+  from.seed_scale = 0;
+  const saltus::OptimizeResult again = saltus::optimize(problem, from);
+  fs::remove_all(dir);
+  EXPECT_TRUE(again.continuation.empty());
+  EXPECT_TRUE(again.feasible());
+
+  // A step whose transcription is not the problem's (another mesh) is refused before any solve.
+  Problem remeshed = *itself.problem;
+  saltus::collocation::remesh(remeshed, 10, remeshed.P);
+  problem.continuation[0].problem = std::make_shared<const Problem>(remeshed);
+  try {
+    saltus::optimize(problem, options);
+    ADD_FAILURE() << "a step of another mesh was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("continuation[0] (restitution = 0.5): its transcription has ", 0), 0u) << what;
+    EXPECT_NE(what.find("not the mesh"), std::string::npos) << what;
+  }
 }
 
 // A problem file's solve.<method> keys (Problem::method_solve) take the place of the problem's
