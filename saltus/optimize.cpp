@@ -100,12 +100,13 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
 
 namespace {
 
-// The transcriptions of the problem's continuation steps, adjusted as the problem is; none when
-// the options turn it off or the seed is an earlier solution (already a point of the problem).
+// A continuation step's problem, adjusted as the problem is, and its transcription.
 struct StepTranscription {
   std::shared_ptr<const Problem> problem;
   std::shared_ptr<const Transcription> transcription;  // refers to *problem
 };
+// The problem's continuation steps; none when the options turn it off or the seed is an earlier
+// solution (already a point of the problem).
 std::vector<StepTranscription> continuationSteps(const Problem& adjusted, const OptimizeOptions& options,
                                                  const Transcription& t) {
   std::vector<StepTranscription> steps;
