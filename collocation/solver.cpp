@@ -203,6 +203,13 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
     app->Options()->SetNumericValue("bound_push", kBoundPush);
     app->Options()->SetNumericValue("bound_frac", kBoundPush);
   }
+  // A tightening stage starts at the stage before's end, whose gaps and impulses sit within
+  // millimetres and fractions of a newton-second of their bounds: a caller's bound_push for a cold
+  // first stage (Ipopt's own 0.01) would move that point away before the first step.
+  if (stage == Stage::Tighten) {
+    app->Options()->SetNumericValue("bound_push", kBoundPush);
+    app->Options()->SetNumericValue("bound_frac", kBoundPush);
+  }
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);
   if (app->Initialize() != Ipopt::Solve_Succeeded) throw std::runtime_error("Ipopt failed to initialise");

@@ -180,6 +180,32 @@ TEST(Solver, StagesThatRestoreFeasibilityNearASolutionUseTheMonotoneBarrier) {
   EXPECT_TRUE(c.feasible) << c.stages.back().status;
 }
 
+// A tightening stage starts at the stage before's end and keeps it: the caller's bound_push and
+// bound_frac (0.1 here, Ipopt's 0.01 by default: a cold first stage's start) do not move it into
+// its bounds. The near miss as a warm seed that keeps its warm start: its first stage ends where
+// it did, and the tightening stage from there is the same stage, iteration for iteration, with and
+// without the caller's push.
+TEST(Solver, TheTighteningStageStartsAtTheStageBeforesEndWhateverTheCallersBoundPush) {
+  const Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  SolveOptions without;
+  without.tighten_within = 0;
+  const SolveReport near = solve(t, seeding.seed, without);
+  ASSERT_GT(near.largest_product, p.complementarity_tolerance);
+  const SeedFunction warm = [&](int) { return Seed{near.x, true, false, true}; };
+  const SolveReport plain = solve(t, warm, SolveOptions{});
+  SolveOptions pushed;
+  pushed.ipopt["bound_push"] = "0.1";
+  pushed.ipopt["bound_frac"] = "0.1";
+  const SolveReport r = solve(t, warm, pushed);
+  expectTightenedDrop(t, plain);
+  expectTightenedDrop(t, r);
+  EXPECT_EQ(r.stages[0].iterations, plain.stages[0].iterations);
+  EXPECT_EQ(r.stages[1].iterations, plain.stages[1].iterations);
+  EXPECT_LE((r.x - plain.x).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
 // When no stage ends feasible, the result is the point nearest a trajectory, not the last
 // stage's. The near miss above (products 1.5e-4, constraints met), untightened, with a task stage
 // stopped at its start pushed 0.1 inside its bounds (every reaction and ε at least 0.1: products
