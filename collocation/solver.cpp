@@ -197,16 +197,15 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
   if (stage == Stage::Task)
     for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
-  if (first_stage && options.warm_seed && options.keep_warm_start) {  // the warm start above, again
+  const bool kept_warm_start = first_stage && options.warm_seed && options.keep_warm_start;
+  if (kept_warm_start) {  // the warm start above, again
     app->Options()->SetNumericValue("mu_init", kWarmMuInit);
     app->Options()->SetStringValue("mu_strategy", "monotone");
-    app->Options()->SetNumericValue("bound_push", kBoundPush);
-    app->Options()->SetNumericValue("bound_frac", kBoundPush);
   }
   // A tightening stage starts at the stage before's end, whose gaps and impulses sit within
   // millimetres and fractions of a newton-second of their bounds: a caller's bound_push for a cold
   // first stage (Ipopt's own 0.01) would move that point away before the first step.
-  if (stage == Stage::Tighten) {
+  if (kept_warm_start || stage == Stage::Tighten) {
     app->Options()->SetNumericValue("bound_push", kBoundPush);
     app->Options()->SetNumericValue("bound_frac", kBoundPush);
   }
