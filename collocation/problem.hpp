@@ -180,7 +180,7 @@ struct Problem {
   // every seed of a solve with a seed kind other than `solution` is first carried through these
   // problems in turn, a feasibility stage on each (collocation::SolveOptions::feasibility_only)
   // from the previous one's end, the first from the seed with the hints; the solve then starts
-  // from the last end, a warm seed without the hints (saltus::optimize). On ollie_simple, strategy
+  // from the last end, a warm seed with the seed's hints (saltus::optimize). On ollie_simple, strategy
   // 3's first stage at half gravity (the riders' forces kept in newtons) ends nearer the Ollie than
   // at full gravity, where it ends in a local minimum (README, "The Ollie").
   std::vector<ContinuationStep> continuation;

@@ -190,24 +190,24 @@ StageReport runStage(const Transcription& t, Stage stage, const Eigen::VectorXd&
     app->Options()->SetStringValue("derivative_test", "second-order");
     app->Options()->SetNumericValue("derivative_test_perturbation", 1e-7);
   }
-  // The problem's options, then the command line's; the task stage's own after each.
+  // Every stage's options: the problem's, then the command line's.
   for (const auto& [name, value] : t.problem().ipopt_options) setOption(*app, name, value);
-  if (stage == Stage::Task)
-    for (const auto& [name, value] : t.problem().task_ipopt_options) setOption(*app, name, value);
   for (const auto& [name, value] : options.ipopt) setOption(*app, name, value);
-  if (stage == Stage::Task)
-    for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
   const bool kept_warm_start = first_stage && options.warm_seed && options.keep_warm_start;
   if (kept_warm_start) {  // the warm start above, again
     app->Options()->SetNumericValue("mu_init", kWarmMuInit);
     app->Options()->SetStringValue("mu_strategy", "monotone");
   }
-  // A tightening stage starts at the stage before's end, whose gaps and impulses sit within
-  // millimetres and fractions of a newton-second of their bounds: a caller's bound_push for a cold
-  // first stage (Ipopt's own 0.01) would move that point away before the first step.
-  if (kept_warm_start || stage == Stage::Tighten) {
+  // A tightening or task stage starts at the stage before's end, whose gaps and impulses sit
+  // within millimetres and fractions of a newton-second of their bounds: a caller's bound_push for
+  // a cold first stage (Ipopt's own 0.01) would move that point away before the first step.
+  if (kept_warm_start || stage == Stage::Tighten || stage == Stage::Task) {
     app->Options()->SetNumericValue("bound_push", kBoundPush);
     app->Options()->SetNumericValue("bound_frac", kBoundPush);
+  }
+  if (stage == Stage::Task) {  // the task stage's own last: the problem's, then the command line's
+    for (const auto& [name, value] : t.problem().task_ipopt_options) setOption(*app, name, value);
+    for (const auto& [name, value] : options.task_ipopt) setOption(*app, name, value);
   }
   if (stage == Stage::Task && options.task_max_iter >= 0) app->Options()->SetIntegerValue("max_iter", options.task_max_iter);
   if (stage == Stage::Penalty) app->Options()->SetIntegerValue("max_iter", t.problem().penalty_iterations);

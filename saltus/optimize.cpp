@@ -180,9 +180,10 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     if (!steps.empty()) {
       // Each attempt's seed through the steps: a feasibility stage on each from the previous
       // end, the first with the hints (when the seed takes them), then the problem's own solve
-      // from the last end, warm (as from an earlier solution) and without the hints.
+      // from the last end, warm and with the seed's hints, as from an earlier solution.
       seed = [&o, &steps, &adjusted, base = seeding.seed, options = solve](int k) {
         collocation::Seed s = base(k);
+        const bool hinted = s.hinted;
         for (std::size_t i = 0; i < steps.size(); ++i) {
           SolveOptions step = options;
           step.feasibility_only = true;
@@ -195,6 +196,7 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
           o.continuation.push_back({k, static_cast<int>(i), adjusted.continuation[i].parameters, r.stages.back()});
           s = collocation::Seed{r.x, true, false, true};
         }
+        s.hinted = hinted;
         return s;
       };
     }

@@ -20,6 +20,7 @@ namespace saltus::collocation {
 namespace {
 
 using testing::checkDrop;
+using testing::heightCostDrop;
 using testing::nearMissDrop;
 using testing::Solved;
 using testing::withHeightCost;
@@ -28,8 +29,7 @@ using testing::withHeightCost;
 // start (the best feasible point it evaluated, when its end is off the constraints or worse).
 // The mechanism itself: Nlp.KeepsTheBestFeasiblePointItEvaluates.
 TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
-  Problem p = loadProblem("point_mass_drop");
-  withHeightCost(p);
+  Problem p = heightCostDrop();
   const Transcription t(p, Method::Impulsive);
   SolveOptions o;
   o.warm_seed = true;
@@ -73,8 +73,7 @@ TEST(Solver, ATaskStageStoppedAnywhereKeepsItsBestFeasiblePoint) {
 // reach that stage and no other: max_iter 0 there stops the task stage at its start while the
 // feasibility stage iterates; the command line's value overrides the problem's.
 TEST(Solver, TaskStageOptionsReachTheTaskStageOnly) {
-  Problem p = loadProblem("point_mass_drop");
-  withHeightCost(p);
+  Problem p = heightCostDrop();
   p.task_ipopt_options["max_iter"] = "0";
   const Transcription t(p, Method::Impulsive);
   const Eigen::VectorXd seed = seedFromSimulation(t);
@@ -93,14 +92,46 @@ TEST(Solver, TaskStageOptionsReachTheTaskStageOnly) {
   EXPECT_TRUE(full.stages[1].succeeded) << full.stages[1].status;
 }
 
+// The task stage starts at the stage before's end and keeps it, as a tightening stage does: the
+// caller's bound_push and bound_frac for every stage (0.1 here: a cold first stage's start) do not
+// move a feasible point into its bounds before the task stage's first step; the task stage's own
+// options (task_ipopt) still set them for it. The drop with a task cost from the time-stepper's
+// seed, kept warm: the same stages iteration for iteration with and without the caller's push.
+TEST(Solver, TheTaskStageStartsAtTheStageBeforesEndWhateverTheCallersBoundPush) {
+  Problem p = heightCostDrop();
+  const Transcription t(p, Method::Impulsive);
+  const Eigen::VectorXd seed = seedFromSimulation(t);
+  SolveOptions plain;
+  plain.warm_seed = true;
+  plain.keep_warm_start = true;
+  const SolveReport a = solve(t, seed, plain);
+  SolveOptions pushed = plain;
+  pushed.ipopt["bound_push"] = "0.1";
+  pushed.ipopt["bound_frac"] = "0.1";
+  const SolveReport b = solve(t, seed, pushed);
+  ASSERT_EQ(a.stages.size(), 2u);
+  ASSERT_EQ(b.stages.size(), 2u);
+  EXPECT_TRUE(a.converged && b.converged) << a.stages[1].status << ", " << b.stages[1].status;
+  EXPECT_EQ(b.stages[0].iterations, a.stages[0].iterations);
+  EXPECT_EQ(b.stages[1].iterations, a.stages[1].iterations);
+  EXPECT_LE((b.x - a.x).lpNorm<Eigen::Infinity>(), 1e-12);
+  SolveOptions own = plain;
+  own.task_ipopt["bound_push"] = "0.1";
+  own.task_ipopt["bound_frac"] = "0.1";
+  const SolveReport c = solve(t, seed, own);
+  ASSERT_EQ(c.stages.size(), 2u);
+  EXPECT_EQ(c.stages[0].iterations, a.stages[0].iterations);
+  EXPECT_TRUE(c.stages[1].iterations != a.stages[1].iterations || (c.x - a.x).lpNorm<Eigen::Infinity>() > 1e-9)
+      << "the task stage's own bound_push reaches it";
+}
+
 // A task stage stopped by its iteration limit at a feasible point leaves a feasible, not
 // converged, solution. The inelastic drop with a task cost (the lowest largest height, x_m): its
 // feasibility stage ends at a solution; a task stage allowed no iteration stops at that point
 // (Maximum_Iterations_Exceeded) and the result is the drop, feasible and not converged; allowed
 // its iterations, the task stage converges.
 TEST(Solver, ATaskStageStoppedAtAFeasiblePointIsFeasibleNotConverged) {
-  Problem p = loadProblem("point_mass_drop");
-  withHeightCost(p);
+  Problem p = heightCostDrop();
   const Transcription t(p, Method::Impulsive);
   const Eigen::VectorXd seed = seedFromSimulation(t);
   SolveOptions stopped;

@@ -186,6 +186,15 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
       << adjustError(bouncing, options);
 }
 
+// The bouncing drop (restitution 0.5) with one continuation step that is the problem itself.
+saltus::collocation::Problem withItselfAsAStep(saltus::collocation::Problem problem) {
+  saltus::collocation::ContinuationStep itself;
+  itself.parameters = {{"restitution", 0.5}};
+  itself.problem = std::make_shared<const saltus::collocation::Problem>(problem);
+  problem.continuation = {itself};
+  return problem;
+}
+
 // A continuation (Problem::continuation) carries each attempt's seed through its steps, a
 // feasibility stage on each, and the solve starts from the last end, warm and without hints. With
 // one step that is the problem itself (the bouncing drop, e = 0.5, from its simulation seed)
@@ -194,11 +203,8 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
 TEST(ApiOptimizeContinuation, EachSeedIsCarriedThroughTheSteps) {
   using saltus::collocation::Problem;
   namespace c = saltus::collocation;
-  Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
-  c::ContinuationStep itself;
-  itself.parameters = {{"restitution", 0.5}};
-  itself.problem = std::make_shared<const Problem>(problem);
-  problem.continuation = {itself};
+  Problem problem = withItselfAsAStep(saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}}));
+  const c::ContinuationStep& itself = problem.continuation[0];
   saltus::OptimizeOptions options;
   options.restarts = 0;
   const saltus::OptimizeResult r = saltus::optimize(problem, options);
@@ -265,6 +271,46 @@ TEST(ApiOptimizeContinuation, EachSeedIsCarriedThroughTheSteps) {
     EXPECT_EQ(what.rfind("continuation[0] (restitution = 0.5): its transcription has ", 0), 0u) << what;
     EXPECT_NE(what.find("not the mesh"), std::string::npos) << what;
   }
+}
+
+// The problem's own solve after a continuation takes the seed's hints in its first stage, as a
+// solve from an earlier solution does (the later steps go without them). The bouncing drop with a
+// hint that never binds (its speed at most 10 m/s at [1, 0]) and one step that is the problem
+// itself: the solve is, to the last digit, the one by hand from the step's end with the hints, and
+// not the one without them.
+TEST(ApiOptimizeContinuation, TheProblemsOwnSolveKeepsTheSeedsHints) {
+  using saltus::collocation::Problem;
+  namespace c = saltus::collocation;
+  Problem problem = saltus::loadProblem("point_mass_drop", {{"restitution", 0.5}});
+  c::PointBound hint;
+  hint.quantity = {c::Quantity::Kind::Velocity, 0};
+  hint.element = 1;
+  hint.point = 0;
+  hint.upper = 10;
+  hint.origin = "the test's hint";
+  problem.hints = {hint};
+  problem = withItselfAsAStep(problem);
+  saltus::OptimizeOptions options;
+  options.restarts = 0;
+  const saltus::OptimizeResult r = saltus::optimize(problem, options);
+  ASSERT_EQ(r.continuation.size(), 1u);
+  EXPECT_TRUE(r.feasible()) << r.report.keptStage().status;
+
+  const c::Transcription& t = *r.transcription;
+  const c::Seed seed = c::makeSeeding(t).seed(0);
+  ASSERT_TRUE(seed.hinted);
+  c::SolveOptions only = options.solve;
+  only.feasibility_only = true;
+  only.warm_seed = seed.warm;
+  const Eigen::VectorXd end = c::solve(t, seed.x, only).x;
+  const auto from_end = [&](bool hinted) {
+    return c::solve(t, [&](int) { return c::Seed{end, true, hinted, true}; }, options.solve);
+  };
+  const c::SolveReport with = from_end(true), without = from_end(false);
+  ASSERT_EQ(with.x.size(), r.report.x.size());
+  EXPECT_EQ((with.x - r.report.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(with.stages.front().iterations, r.report.stages.front().iterations);
+  EXPECT_GT((without.x - r.report.x).cwiseAbs().maxCoeff(), 0.0) << "the hint changes the first stage";
 }
 
 // A problem file's solve.<method> keys (Problem::method_solve) take the place of the problem's

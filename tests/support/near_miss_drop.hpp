@@ -31,6 +31,13 @@ inline void withHeightCost(collocation::Problem& p) {
   p.cost.max_weight = 1.0;
 }
 
+// The inelastic drop with that task cost.
+inline collocation::Problem heightCostDrop() {
+  collocation::Problem p = collocation::loadProblem("point_mass_drop");
+  withHeightCost(p);
+  return p;
+}
+
 // A solve whose tightening stage (its second) made the drop feasible: it lands at the analytic time.
 inline void expectTightenedDrop(const collocation::Transcription& t, const collocation::SolveReport& r) {
   ASSERT_EQ(r.stages.size(), 2u);

@@ -13,6 +13,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "collocation/nlp.hpp"
+#include "collocation/problem_file.hpp"
+#include "collocation/transcription.hpp"
 #include "saltus/build_paths.hpp"
 #include "scene/yaml_reader.hpp"
 
@@ -347,6 +350,37 @@ TEST(SweepSpec, EveryShippedSpecExpands) {
     }
   }
   EXPECT_GE(specs, 10);
+}
+
+// The sweep's copy of ollie_simple with a continuation (bench/sweeps/problems/) is that problem
+// but for its steps: the same parameters, and the same feasibility-stage NLP (bounds, objective
+// and constraints, hints included) at a perturbed point, to the last digit.
+TEST(SweepSpec, TheShippedContinuationProblemIsOllieSimpleWithItsSteps) {
+  namespace c = saltus::collocation;
+  const c::Problem plain = c::loadProblem("ollie_simple");
+  const c::Problem copy = c::loadProblem(
+      (fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / "ollie_simple_continuation.yaml").string());
+  EXPECT_TRUE(plain.continuation.empty());
+  ASSERT_EQ(copy.continuation.size(), 2u);
+  EXPECT_DOUBLE_EQ(copy.continuation[0].problem->parameters.at("g"), plain.parameters.at("g") / 2);
+  EXPECT_EQ(copy.parameters, plain.parameters);
+  const c::Transcription a(plain, c::Method::Impulsive), b(copy, c::Method::Impulsive);
+  ASSERT_EQ(a.variables(), b.variables());
+  const Eigen::VectorXd x = a.perturb(a.nullSeed(), 0.1, 1);
+  const auto nlp = [&](const c::Transcription& t) {
+    c::Nlp p(t, c::Stage::Feasibility, x);
+    Ipopt::Index n = 0, m = 0, nnz_j = 0, nnz_h = 0;
+    Ipopt::TNLP::IndexStyleEnum style;
+    p.get_nlp_info(n, m, nnz_j, nnz_h, style);
+    Eigen::VectorXd values(2 * n + 3 * m + 1);
+    p.get_bounds_info(n, values.data(), values.data() + n, m, values.data() + 2 * n, values.data() + 2 * n + m);
+    p.eval_g(n, x.data(), true, m, values.data() + 2 * n + 2 * m);
+    p.eval_f(n, x.data(), false, values[2 * n + 3 * m]);
+    return values;
+  };
+  const Eigen::VectorXd va = nlp(a), vb = nlp(b);
+  ASSERT_EQ(va.size(), vb.size());
+  EXPECT_TRUE(va.cwiseEqual(vb).all());
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
