@@ -14,6 +14,7 @@ namespace saltus::collocation::detail {
 namespace fs = std::filesystem;
 using scene::describe;
 using scene::fmt;
+using scene::joinNames;
 using scene::keyPath;
 using scene::suggestion;
 
@@ -88,13 +89,9 @@ void ProblemReader::readSolve(const YAML::Node& node) {
         const std::string name = it->first.Scalar();
         if (!p_.parameters.count(name)) {
           std::vector<std::string> known;
-          std::string list;
-          for (const auto& [k, v] : p_.parameters) {
-            known.push_back(k);
-            list += (list.empty() ? "" : ", ") + k;
-          }
+          for (const auto& [k, v] : p_.parameters) known.push_back(k);
           r_.fail(it->first, at + "." + name,
-                  "no parameter '" + name + "'" + suggestion(name, known) + "; the parameters are: " + list);
+                  "no parameter '" + name + "'" + suggestion(name, known) + "; the parameters are: " + joinNames(known));
         }
         s.parameters[name] = r_.number(it->second, at + "." + name);
       }
