@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -352,20 +353,24 @@ TEST(SweepSpec, EveryShippedSpecExpands) {
   EXPECT_GE(specs, 10);
 }
 
-// The sweep's copy of ollie_simple with a continuation (bench/sweeps/problems/) is that problem
-// but for its steps: the same parameters, and the same feasibility-stage NLP (bounds, objective
-// and constraints, hints included) at a perturbed point, to the last digit.
-TEST(SweepSpec, TheShippedContinuationProblemIsOllieSimpleWithItsSteps) {
+// A sweep's copy of a problem with a continuation (bench/sweeps/problems/) is that problem but for
+// its steps: the same parameters, and the same feasibility-stage NLP (bounds, objective and
+// constraints, hints included) at a perturbed point, to the last digit; its first step at half
+// gravity. Returns that step's parameters.
+std::map<std::string, double> expectTheProblemWithItsSteps(const std::string& name, const std::string& copy_file,
+                                                           const std::map<std::string, double>& overrides) {
   namespace c = saltus::collocation;
-  const c::Problem plain = c::loadProblem("ollie_simple");
-  const c::Problem copy = c::loadProblem(
-      (fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / "ollie_simple_continuation.yaml").string());
+  const c::Problem plain = c::loadProblem(name, overrides);
+  const c::Problem copy =
+      c::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / copy_file).string(), overrides);
   EXPECT_TRUE(plain.continuation.empty());
-  ASSERT_EQ(copy.continuation.size(), 2u);
+  EXPECT_EQ(copy.continuation.size(), 2u);
+  if (copy.continuation.empty()) return {};
   EXPECT_DOUBLE_EQ(copy.continuation[0].problem->parameters.at("g"), plain.parameters.at("g") / 2);
   EXPECT_EQ(copy.parameters, plain.parameters);
   const c::Transcription a(plain, c::Method::Impulsive), b(copy, c::Method::Impulsive);
-  ASSERT_EQ(a.variables(), b.variables());
+  EXPECT_EQ(a.variables(), b.variables());
+  if (a.variables() != b.variables()) return {};
   const Eigen::VectorXd x = a.perturb(a.nullSeed(), 0.1, 1);
   const auto nlp = [&](const c::Transcription& t) {
     c::Nlp p(t, c::Stage::Feasibility, x);
@@ -379,8 +384,24 @@ TEST(SweepSpec, TheShippedContinuationProblemIsOllieSimpleWithItsSteps) {
     return values;
   };
   const Eigen::VectorXd va = nlp(a), vb = nlp(b);
-  ASSERT_EQ(va.size(), vb.size());
-  EXPECT_TRUE(va.cwiseEqual(vb).all());
+  EXPECT_EQ(va.size(), vb.size());
+  if (va.size() == vb.size()) {
+    EXPECT_TRUE(va.cwiseEqual(vb).all()) << name;
+  }
+  return copy.continuation[0].problem->parameters;
+}
+
+TEST(SweepSpec, TheShippedContinuationProblemIsOllieSimpleWithItsSteps) {
+  const auto first = expectTheProblemWithItsSteps("ollie_simple", "ollie_simple_continuation.yaml", {});
+  EXPECT_DOUBLE_EQ(first.at("force_limit"), 6.0);  // the riders' forces kept in newtons
+}
+
+// The full body's copy, with the assist of the point masses' forces (3 weights) that its sweep
+// sets: at half gravity the assist is 6 of the lighter weights, the same newtons.
+TEST(SweepSpec, TheShippedContinuationProblemIsOllieWithItsSteps) {
+  const auto first = expectTheProblemWithItsSteps("ollie", "ollie_continuation.yaml", {{"assist", 3.0}});
+  EXPECT_DOUBLE_EQ(first.at("assist"), 6.0);
+  EXPECT_DOUBLE_EQ(first.at("assist_z"), 6.0);  // the bounds that follow `assist` follow it in the steps
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
