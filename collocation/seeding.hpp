@@ -1,7 +1,7 @@
 // The starting points of a solve with restarts, by the problem's seed kind (Problem::seed_kind):
 //   simulation  the time-stepper's motion on a mesh placed on its events (simulation_seed.hpp),
 //               the default
-//   null        zero everywhere, positions at the initial state, h in the middle of its bounds
+//   null        zero except where bounds impose (the initial state at [1, 0]); h mid-bounds
 //   perturbed   the null point plus uniform random values in [0, seed_scale] on the positions and
 //               normal reactions (paper §V.C)
 //   perturbed-simulation  the simulation seed plus the same random values: robustness near it,
