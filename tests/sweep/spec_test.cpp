@@ -355,18 +355,19 @@ TEST(SweepSpec, EveryShippedSpecExpands) {
 
 // A sweep's copy of a problem with a continuation (bench/sweeps/problems/) is that problem but for
 // its steps: the same parameters, and the same feasibility-stage NLP (bounds, objective and
-// constraints, hints included) at a perturbed point, to the last digit; its first step at half
-// gravity. Returns that step's parameters.
+// constraints, hints included) at a perturbed point, to the last digit; its `steps` steps, the
+// first at `first_g` of gravity. Returns that step's parameters.
 std::map<std::string, double> expectTheProblemWithItsSteps(const std::string& name, const std::string& copy_file,
-                                                           const std::map<std::string, double>& overrides) {
+                                                           const std::map<std::string, double>& overrides,
+                                                           std::size_t steps = 2, double first_g = 0.5) {
   namespace c = saltus::collocation;
   const c::Problem plain = c::loadProblem(name, overrides);
   const c::Problem copy =
       c::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / copy_file).string(), overrides);
   EXPECT_TRUE(plain.continuation.empty());
-  EXPECT_EQ(copy.continuation.size(), 2u);
+  EXPECT_EQ(copy.continuation.size(), steps);
   if (copy.continuation.empty()) return {};
-  EXPECT_DOUBLE_EQ(copy.continuation[0].problem->parameters.at("g"), plain.parameters.at("g") / 2);
+  EXPECT_DOUBLE_EQ(copy.continuation[0].problem->parameters.at("g"), plain.parameters.at("g") * first_g);
   EXPECT_EQ(copy.parameters, plain.parameters);
   const c::Transcription a(plain, c::Method::Impulsive), b(copy, c::Method::Impulsive);
   EXPECT_EQ(a.variables(), b.variables());
@@ -402,6 +403,23 @@ TEST(SweepSpec, TheShippedContinuationProblemIsOllieWithItsSteps) {
   const auto first = expectTheProblemWithItsSteps("ollie", "ollie_continuation.yaml", {{"assist", 3.0}});
   EXPECT_DOUBLE_EQ(first.at("assist"), 6.0);
   EXPECT_DOUBLE_EQ(first.at("assist_z"), 6.0);  // the bounds that follow `assist` follow it in the steps
+}
+
+// The deeper continuation's copy: a quarter of gravity first (the assist 12 of those weights, the
+// same newtons), then the two steps of ollie_continuation.yaml.
+TEST(SweepSpec, TheShippedQuarterContinuationProblemIsOllieWithItsSteps) {
+  const auto first = expectTheProblemWithItsSteps("ollie", "ollie_continuation_quarter.yaml", {{"assist", 3.0}}, 3, 0.25);
+  EXPECT_DOUBLE_EQ(first.at("assist"), 12.0);
+  EXPECT_DOUBLE_EQ(first.at("assist_theta"), 12.0);
+  namespace c = saltus::collocation;
+  const auto load = [](const char* file) {
+    return c::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / file).string(), {{"assist", 3.0}});
+  };
+  const c::Problem quarter = load("ollie_continuation_quarter.yaml"), half = load("ollie_continuation.yaml");
+  ASSERT_EQ(quarter.continuation.size(), half.continuation.size() + 1);
+  for (std::size_t i = 0; i < half.continuation.size(); ++i) {
+    EXPECT_EQ(quarter.continuation[i + 1].problem->parameters, half.continuation[i].problem->parameters) << i;
+  }
 }
 
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
