@@ -107,6 +107,10 @@ OptimizeCall prepareOptimize(const OptimizeCliOptions& opt) {
       throw UsageError("--tighten-factor: expected a finite non-negative factor (at most 1: one step)");
     options.solve.tighten_factor = *opt.tighten_factor;
   }
+  if (opt.feasibility_repeats) {
+    if (*opt.feasibility_repeats < 0) throw UsageError("--feasibility-repeats: expected a non-negative integer");
+    options.solve.feasibility_repeats = *opt.feasibility_repeats;
+  }
   options.penalty_iterations = opt.penalty_iterations;  // checked by adjustedProblem, below
   if (!opt.task_penalty.empty()) {
     if (opt.task_penalty != "on" && opt.task_penalty != "off")
@@ -233,6 +237,9 @@ Command addOptimizeCommand(CLI::App& saltus) {
   app->add_option("--tighten-factor", opt->tighten_factor,
                   "from products far above the tolerance, tighten in steps: the bound from 1/F of the products down "
                   "by F a step to the tolerance (default 10; at most 1: one step)");
+  app->add_option("--feasibility-repeats", opt->feasibility_repeats,
+                  "a feasibility stage that Ipopt solved at a local minimum above the tolerance runs again from its "
+                  "end, up to this many times, with a fresh barrier and the --ipopt bound_push (default 0)");
   app->add_option("--task-max-iter", opt->task_max_iter,
                   "iteration limit of the task stage (default: Ipopt's max_iter); a task stage stopped by it at a "
                   "feasible point gives a feasible, not converged, solution");

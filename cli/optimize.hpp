@@ -25,6 +25,7 @@ struct OptimizeCliOptions {
   std::optional<double> resimulation_tracking;
   std::optional<double> tighten_within;
   std::optional<double> tighten_factor;
+  std::optional<int> feasibility_repeats;
   std::optional<int> task_max_iter;
   std::optional<int> penalty_iterations;
   std::string task_penalty;  // --task-penalty on|off; empty: the problem's

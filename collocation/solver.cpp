@@ -336,6 +336,28 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     first = report.stages.back();  // a copy: later push_backs reallocate
     kept = report.stages.size() - 1;
     if (feasibleEnd(first)) return true;
+    // A local minimum of the penalty above the tolerance: the stage again from its end, warm
+    // (a fresh, small barrier) and under the caller's bound push (SolveOptions::feasibility_repeats).
+    SolveOptions again = options;
+    again.warm_seed = true;
+    again.keep_warm_start = false;
+    for (int i = 0; stage == Stage::Feasibility && i < options.feasibility_repeats &&
+                    first.status_code == Ipopt::Solve_Succeeded && !report.interrupted;
+         ++i) {
+      const Eigen::VectorXd before = x;
+      const Multipliers multipliers_before = multipliers;
+      report.stages.push_back(runStage(t, Stage::Feasibility, before, {}, again, x, multipliers, report));
+      const StageReport repeat = report.stages.back();
+      if (!report.interrupted && (feasibleEnd(repeat) || nearer(repeat, first))) {
+        first = repeat;
+        kept = report.stages.size() - 1;
+        if (feasibleEnd(first)) return true;
+      } else {  // no nearer: the point before it
+        x = before;
+        multipliers = multipliers_before;
+        break;
+      }
+    }
     if (stage == Stage::Penalty || report.interrupted || options.feasibility_only ||
         !tightensAfter(first, tolerance, options.violation_tolerance, options.tighten_within))
       return false;

@@ -170,7 +170,7 @@ void bindOptimize(py::module_& m) {
       [](const py::object& problem, const std::string& method, std::optional<int> N, std::optional<int> P,
          std::optional<unsigned> seed, std::optional<std::string> seed_kind, const std::string& seed_from,
          std::optional<std::string> seed_method, const std::string& seed_inputs, std::optional<double> seed_scale, std::optional<int> restarts, std::optional<int> resimulations, std::optional<double> resimulation_tracking, std::optional<std::string> hessian,
-         std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within, std::optional<double> tighten_factor,
+         std::optional<std::string> feasibility_hessian, const std::map<std::string, std::string>& ipopt, int print_level, std::optional<double> tighten_within, std::optional<double> tighten_factor, std::optional<int> feasibility_repeats,
          std::optional<int> task_max_iter, std::optional<int> penalty_iterations, std::optional<bool> task_penalty, const std::map<std::string, std::string>& task_ipopt, bool hints, bool continuation,
          bool require_feasible, const Parameters& set) {
         const ProblemPtr p = problemOf(problem, set);
@@ -209,6 +209,7 @@ void bindOptimize(py::module_& m) {
         o.solve.print_level = print_level;
         if (tighten_within) o.solve.tighten_within = *tighten_within;
         if (tighten_factor) o.solve.tighten_factor = *tighten_factor;
+        if (feasibility_repeats) o.solve.feasibility_repeats = *feasibility_repeats;  // ≥ 0: checked by optimize
         o.penalty_iterations = penalty_iterations;
         o.task_penalty = task_penalty;
         if (task_max_iter) {
@@ -251,7 +252,7 @@ void bindOptimize(py::module_& m) {
       py::arg("P") = py::none(), py::arg("seed") = py::none(), py::arg("seed_kind") = py::none(),
       py::arg("seed_from") = "", py::arg("seed_method") = py::none(), py::arg("seed_inputs") = "", py::arg("seed_scale") = py::none(), py::arg("restarts") = py::none(),
       py::arg("resimulations") = py::none(), py::arg("resimulation_tracking") = py::none(), py::arg("hessian") = py::none(), py::arg("feasibility_hessian") = py::none(), py::arg("ipopt") = std::map<std::string, std::string>{},
-      py::arg("print_level") = 0, py::arg("tighten_within") = py::none(), py::arg("tighten_factor") = py::none(),
+      py::arg("print_level") = 0, py::arg("tighten_within") = py::none(), py::arg("tighten_factor") = py::none(), py::arg("feasibility_repeats") = py::none(),
       py::arg("task_max_iter") = py::none(), py::arg("penalty_iterations") = py::none(), py::arg("task_penalty") = py::none(), py::arg("task_ipopt") = std::map<std::string, std::string>{},
       py::arg("hints") = true, py::arg("continuation") = true, py::arg("require_feasible") = false,
       py::arg("set") = Parameters{},

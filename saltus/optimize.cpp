@@ -93,6 +93,9 @@ Problem adjustedProblem(Problem problem, const OptimizeOptions& options) {
                                 std::to_string(options.solve.print_level));
   if (!(options.solve.tighten_within >= 0))
     throw std::invalid_argument("tighten_within: expected a non-negative ratio (0: never tighten)");
+  if (options.solve.feasibility_repeats < 0)
+    throw std::invalid_argument("feasibility_repeats: expected a non-negative integer, got " +
+                                std::to_string(options.solve.feasibility_repeats));
   if (!(options.solve.tighten_factor >= 0) || !std::isfinite(options.solve.tighten_factor))
     throw std::invalid_argument("tighten_factor: expected a finite non-negative factor (at most 1: one step)");
   return problem;
@@ -188,6 +191,7 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
           SolveOptions step = options;
           step.feasibility_only = true;
           step.restarts = step.resimulations = 0;
+          step.feasibility_repeats = 0;  // a step's end only seeds the next: the problem's own stage repeats
           step.resimulate = nullptr;
           step.warm_seed = options.warm_seed || s.warm;
           step.keep_warm_start = i > 0 || (s.warm && s.keep_warm_start);
@@ -221,6 +225,7 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
   }
   o.tighten_within = solve.tighten_within;
   o.tighten_factor = solve.tighten_factor;
+  o.feasibility_repeats = solve.feasibility_repeats;
   o.samples = trajectory(t, o.report.x);
   o.mean_local_error = meanLocalError(t, o.report.x);
   if (!o.report.feasible && !o.report.interrupted && !adjusted.hints.empty()) {
@@ -290,6 +295,7 @@ std::string summaryJson(const OptimizeResult& o) {
   j["hints_used"] = problem.hints.size();  // the hints imposed (--no-hints: 0)
   if (std::isfinite(o.tighten_within)) j["tighten_within"] = o.tighten_within;
   j["tighten_factor"] = o.tighten_factor;
+  j["feasibility_repeats"] = o.feasibility_repeats;
   j["feasible"] = r.feasible;
   j["converged"] = r.converged;
   // Ipopt's status of the stage whose point is the solution (stages[kept_stage]).

@@ -185,6 +185,7 @@ struct OptimizeResult {
   std::string seed_fallback;  // set when the simulation seed failed and the null seed was used
   double tighten_within = 0;  // the tightening threshold used
   double tighten_factor = 0;  // the tightening continuation's factor used
+  int feasibility_repeats = 0;  // the feasibility stage's repeats allowed (SolveOptions)
   std::vector<collocation::Sample> samples;  // the trajectory at every collocation point
   double mean_local_error = 0;
   // An infeasible solve with hints: whether the problem's own motion could meet them.

@@ -69,7 +69,7 @@ std::string resolvePath(const std::string& path, const std::string& spec_file) {
 // given replaces o's, and ipopt and task_ipopt entries are added to o's.
 void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std::string& where) {
   const std::string prefix = where + ".";
-  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "resimulation_tracking", "seed", "seed_from", "seed_scale", "hints", "continuation", "tighten_within", "tighten_factor", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
+  r.checkMap(n, where, {"N", "P", "restarts", "resimulations", "resimulation_tracking", "seed", "seed_from", "seed_scale", "hints", "continuation", "tighten_within", "tighten_factor", "feasibility_repeats", "task_max_iter", "penalty_iterations", "task_penalty", "hessian", "feasibility_hessian", "ipopt", "task_ipopt"},
              true);
   if (n.IsNull()) return;
   if (n["N"]) o.N = positiveInteger(r, n["N"], prefix + "N", 1);
@@ -78,6 +78,8 @@ void readOptions(YamlReader& r, const YAML::Node& n, SolveSettings& o, const std
     if (*o.P > 9) r.fail(n["P"], prefix + "P", "expected an order from 1 to 9, got " + std::to_string(*o.P));
   }
   if (n["restarts"]) o.restarts = positiveInteger(r, n["restarts"], prefix + "restarts", 0);
+  if (n["feasibility_repeats"])
+    o.feasibility_repeats = positiveInteger(r, n["feasibility_repeats"], prefix + "feasibility_repeats", 0);
   if (n["resimulations"]) o.resimulations = positiveInteger(r, n["resimulations"], prefix + "resimulations", 0);
   if (n["resimulation_tracking"]) {
     o.resimulation_tracking = r.number(n["resimulation_tracking"], prefix + "resimulation_tracking");
@@ -355,6 +357,7 @@ std::vector<std::string> SweepCase::optimizeArguments(const std::string& out) co
   if (o.seed_scale) a.insert(a.end(), {"--seed-scale", formatValue(*o.seed_scale)});
   if (o.tighten_within) a.insert(a.end(), {"--tighten-within", formatValue(*o.tighten_within)});
   if (o.tighten_factor) a.insert(a.end(), {"--tighten-factor", formatValue(*o.tighten_factor)});
+  if (o.feasibility_repeats) a.insert(a.end(), {"--feasibility-repeats", std::to_string(*o.feasibility_repeats)});
   if (o.task_max_iter) a.insert(a.end(), {"--task-max-iter", std::to_string(*o.task_max_iter)});
   if (o.task_penalty) a.insert(a.end(), {"--task-penalty", *o.task_penalty ? "on" : "off"});
   if (o.penalty_iterations) a.insert(a.end(), {"--penalty-iterations", std::to_string(*o.penalty_iterations)});

@@ -34,6 +34,7 @@ struct SolveSettings {
   std::optional<double> resimulation_tracking;  // --resimulation-tracking
   std::optional<double> tighten_within;  // --tighten-within
   std::optional<double> tighten_factor;  // --tighten-factor
+  std::optional<int> feasibility_repeats;  // --feasibility-repeats
   std::optional<int> task_max_iter;      // --task-max-iter
   std::optional<int> penalty_iterations;  // --penalty-iterations
   std::optional<bool> task_penalty;       // --task-penalty on|off

@@ -844,6 +844,7 @@ OPTIONS = [
     ("optimize", "--restarts", ["-1", "abc", "2.5"], ["0"], []),
     ("optimize", "--tighten-within", ["-1", "nan", "abc"], ["0"], []),
     ("optimize", "--tighten-factor", ["-1", "nan", "inf", "abc"], ["1"], []),
+    ("optimize", "--feasibility-repeats", ["-1", "1.5", "abc"], ["0"], []),
     ("optimize", "--hessian", ["banana"], ["limited-memory"], []),
     ("optimize", "--print-level", ["-1", "13", "99", "abc"], ["0"], []),
     ("optimize", "--method", ["banana", ""], [], []),

@@ -107,6 +107,8 @@ def test_bad_input_is_a_value_error_and_an_infeasible_solve_can_be_an_error():
         saltus.optimize("ollie_simple", resimulations=-1)
     with pytest.raises(ValueError, match="resimulation_tracking: expected a natural frequency >= 0 rad/s"):
         saltus.optimize("ollie_simple", resimulation_tracking=-1.0)
+    with pytest.raises(ValueError, match="feasibility_repeats: expected a non-negative integer, got -1"):
+        saltus.optimize("point_mass_drop", feasibility_repeats=-1)
     with pytest.raises(ValueError, match="no_such_problem"):
         saltus.load_problem("no_such_problem")
     with pytest.raises(saltus.SolveError) as error:

@@ -169,6 +169,7 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
   EXPECT_EQ(j.at("seed_solve").at("feasible").get<bool>(), r.seed_solve->feasible());
   EXPECT_EQ(j.at("iterations").get<int>(), r.report.iterations);
   EXPECT_EQ(j.at("tighten_factor").get<double>(), 10.0);  // the default
+  EXPECT_EQ(j.at("feasibility_repeats").get<int>(), 0);    // the default
   // Without a seed method, no such keys.
   EXPECT_FALSE(nlohmann::json::parse(saltus::summaryJson(*r.seed_solve)).contains("seed_solve"));
 
@@ -178,6 +179,9 @@ TEST(ApiOptimizeTwoStep, IsTheSecondSolveFromTheFirstsSolution) {
   saltus::OptimizeOptions factor;
   factor.solve.tighten_factor = -1;
   EXPECT_EQ(adjustError(problem, factor), "tighten_factor: expected a finite non-negative factor (at most 1: one step)");
+  saltus::OptimizeOptions repeats;
+  repeats.solve.feasibility_repeats = -1;
+  EXPECT_EQ(adjustError(problem, repeats), "feasibility_repeats: expected a non-negative integer, got -1");
   saltus::OptimizeOptions both = options;
   both.seed_from = "/some/solution";
   EXPECT_EQ(adjustError(problem, both).rfind("seed_method: not with seed_from", 0), 0u);

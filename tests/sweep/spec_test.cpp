@@ -42,7 +42,7 @@ problems:
 methods: [impulsive, first-order]
 set: {}
 seeds: {from: 3, count: 2}
-options: {N: 10, restarts: 0, resimulations: 2, resimulation_tracking: 12.5, hints: false, continuation: false, tighten_within: 0, tighten_factor: 4, task_max_iter: 500, penalty_iterations: 300,
+options: {N: 10, restarts: 0, resimulations: 2, resimulation_tracking: 12.5, hints: false, continuation: false, tighten_within: 0, tighten_factor: 4, feasibility_repeats: 1, task_max_iter: 500, penalty_iterations: 300,
           task_penalty: true, feasibility_hessian: limited-memory,
           ipopt: {bound_push: 1e-6}, task_ipopt: {obj_scaling_factor: 10}}
 )",
@@ -67,7 +67,8 @@ options: {N: 10, restarts: 0, resimulations: 2, resimulation_tracking: 12.5, hin
   const std::vector<std::string> expected = {"optimize", "pendulum_conveyor", "--method", "impulsive", "--seed", "4",
                                              "--set", "friction=0.5", "--N", "10", "--restarts", "0", "--resimulations", "2",
                                              "--resimulation-tracking", "12.5", "--no-hints", "--no-continuation",
-                                             "--tighten-within", "0", "--tighten-factor", "4", "--task-max-iter", "500",
+                                             "--tighten-within", "0", "--tighten-factor", "4",
+                                             "--feasibility-repeats", "1", "--task-max-iter", "500",
                                              "--task-penalty", "on", "--penalty-iterations", "300",
                                              "--feasibility-hessian", "limited-memory", "--ipopt", "bound_push=1e-6",
                                              "--task-ipopt", "obj_scaling_factor=10", "--out", "OUT"};

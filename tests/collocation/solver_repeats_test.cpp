@@ -1,0 +1,106 @@
+// The solver's repeats of the feasibility stage (SolveOptions::feasibility_repeats): a stage that
+// Ipopt solved at a local minimum of the penalty above the tolerance runs again from its end, warm,
+// under the caller's bound push; not after a stage stopped at its limit, and not once feasible.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "collocation/problem_file.hpp"
+#include "collocation/seeding.hpp"
+#include "collocation/solution.hpp"
+#include "collocation/solver.hpp"
+#include "tests/support/drop_checks.hpp"
+#include "tests/support/near_miss_drop.hpp"
+
+namespace saltus::collocation {
+namespace {
+
+using testing::checkDrop;
+using testing::nearMissDrop;
+using testing::Solved;
+
+// The near miss's local minimum (products 1.5e-4, constraints met) as a warm seed that keeps its
+// warm start, as a continuation's last step hands over: its first stage starts at μ₀ = 1e-4, 1e-6
+// inside its bounds, whatever the caller's options, and ends at the same minimum. A repeat is warm
+// without that: under the caller's barrier start (1e-2) and bound push (0.05) it leaves the
+// minimum and, untightened, reaches the drop, which lands at the analytic time. Without the repeat
+// the solve ends at the minimum.
+TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
+  const Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions untightened;
+  untightened.tighten_within = 0;
+  const SolveReport near = solve(t, makeSeeding(t).seed, untightened);
+  ASSERT_FALSE(near.feasible);
+  ASSERT_EQ(near.stages.at(0).status, "Solve_Succeeded");
+  ASSERT_GT(near.largest_product, p.complementarity_tolerance);
+
+  const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
+  SolveOptions caller = untightened;
+  caller.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}};
+  const SolveReport stuck = solve(t, warm, caller);
+  ASSERT_EQ(stuck.stages.size(), 1u);
+  EXPECT_FALSE(stuck.feasible);
+  EXPECT_EQ(stuck.stages[0].status, "Solve_Succeeded");
+  EXPECT_GT(stuck.largest_product, p.complementarity_tolerance);
+
+  SolveOptions repeated = caller;
+  repeated.feasibility_repeats = 3;
+  const SolveReport r = solve(t, warm, repeated);
+  ASSERT_EQ(r.stages.size(), 2u);  // the first repeat is feasible: no more
+  EXPECT_EQ(r.stages[0].name, "feasibility");
+  EXPECT_EQ(r.stages[0].iterations, stuck.stages[0].iterations);
+  EXPECT_EQ(r.stages[1].name, "feasibility");
+  EXPECT_EQ(r.stages[1].barrier, "monotone");  // warm
+  EXPECT_EQ(r.kept_stage, 1);
+  EXPECT_TRUE(r.feasible) << r.stages[1].status << ", largest product " << r.largest_product;
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, r.stages[0].iterations + r.stages[1].iterations);
+  Solved s;
+  s.report = r;
+  s.rows = trajectory(t, r.x);
+  checkDrop(s, 0.0);
+
+  // A repeat that ends no nearer a feasible point (here under μ₀ = 1e-3 and a push of 0.1, at
+  // products of 3e-3) ends the repeats, and the point before it is the result.
+  caller.ipopt = {{"mu_init", "1e-3"}, {"bound_push", "0.1"}, {"bound_frac", "0.1"}};
+  caller.feasibility_repeats = 3;
+  const SolveReport farther = solve(t, warm, caller);
+  ASSERT_EQ(farther.stages.size(), 2u);
+  EXPECT_GT(farther.stages[1].largest_product, farther.stages[0].largest_product);
+  EXPECT_EQ(farther.kept_stage, 0);
+  EXPECT_FALSE(farther.feasible);
+  EXPECT_EQ(farther.largest_product, farther.stages[0].largest_product);
+  EXPECT_EQ(farther.x, stuck.x);
+}
+
+// A stage that Ipopt did not solve is not repeated (the tightening takes a stage stopped on its
+// way down), nor is one that ends feasible. With the repeat's own bound push the near miss's cold
+// stage is feasible at once: the repeats change nothing.
+TEST(Solver, OnlyASolvedStageAboveTheToleranceIsRepeated) {
+  const Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  const Seeding seeding = makeSeeding(t);
+  SolveOptions limited;
+  limited.tighten_within = 0;
+  limited.feasibility_repeats = 2;
+  limited.ipopt["max_iter"] = "5";
+  const SolveReport stopped = solve(t, seeding.seed, limited);
+  ASSERT_EQ(stopped.stages.size(), 1u);
+  EXPECT_EQ(stopped.stages[0].status, "Maximum_Iterations_Exceeded");
+  EXPECT_FALSE(stopped.feasible);
+
+  SolveOptions pushed;
+  pushed.tighten_within = 0;
+  pushed.ipopt = {{"bound_push", "0.01"}, {"bound_frac", "0.01"}};
+  const SolveReport once = solve(t, seeding.seed, pushed);
+  ASSERT_TRUE(once.feasible) << once.stages[0].status << ", largest product " << once.largest_product;
+  pushed.feasibility_repeats = 2;
+  const SolveReport same = solve(t, seeding.seed, pushed);
+  ASSERT_EQ(same.stages.size(), 1u);
+  EXPECT_EQ(same.stages[0].iterations, once.stages[0].iterations);
+  EXPECT_EQ(same.x, once.x);
+}
+
+}  // namespace
+}  // namespace saltus::collocation
