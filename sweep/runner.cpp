@@ -162,6 +162,30 @@ std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<S
   return records;
 }
 
+std::string optimizeCommand(const SweepCase& c, const std::string& case_dir) {
+  std::vector<std::string> shown = {"saltus"};
+  const std::vector<std::string> args = c.optimizeArguments((fs::path(case_dir) / "solution").string());
+  shown.insert(shown.end(), args.begin(), args.end());
+  return shellCommand(shown);
+}
+
+std::vector<std::string> recordsOfAnotherCommand(const std::string& out, const std::vector<SweepCase>& cases) {
+  // optimizeArguments ends with --out and the solution's folder
+  const auto withoutOut = [](const std::string& command) { return command.substr(0, command.rfind(" --out ")); };
+  std::vector<std::string> lines;
+  const std::vector<SweepRecord> records = readRecords(out, cases);
+  std::map<std::string, const SweepCase*> by_id;
+  for (const SweepCase& c : cases) by_id[c.id] = &c;
+  for (const SweepRecord& r : records) {
+    const auto it = by_id.find(r.id);
+    if (it == by_id.end()) continue;
+    const std::string now = optimizeCommand(*it->second, caseDirectory(out, *it->second));
+    if (withoutOut(r.command) != withoutOut(now))
+      lines.push_back(r.id + ": made by `" + r.command + "`, the spec now runs `" + now + "`");
+  }
+  return lines;
+}
+
 SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,
                        const ReplayCheck& check) {
   SweepRecord r;
@@ -264,10 +288,8 @@ RunResult runSweep(const SweepSpec& spec, const std::vector<SweepCase>& cases, c
         fs::remove_all(dir);  // what a killed run left
         fs::create_directories(dir);
         const std::vector<std::string> args = c.optimizeArguments((fs::path(dir) / "solution").string());
-        std::vector<std::string> shown = {"saltus"};
-        shown.insert(shown.end(), args.begin(), args.end());
         const pid_t pid = spawn(options.saltus, args, (fs::path(dir) / "optimize.log").string());
-        running[pid] = {&c, dir, shellCommand(shown)};
+        running[pid] = {&c, dir, optimizeCommand(c, dir)};
       }
       // Polled, so that a signal arriving between the check above and a blocking wait is seen
       // within 50 ms rather than when the next solve ends.

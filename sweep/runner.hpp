@@ -68,6 +68,14 @@ std::string caseDirectory(const std::string& out, const SweepCase& c);
 // cannot be read throws std::runtime_error naming the file).
 std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<SweepCase>& cases);
 
+// The `saltus optimize` command line a case's solve runs (its folder: case_dir), as a record shows it.
+std::string optimizeCommand(const SweepCase& c, const std::string& case_dir);
+// The cases whose record (in DIR) was made by another command than the case runs now, compared
+// without their --out (the folder may have moved since): the spec changed, or the options the
+// spec leaves to saltus did. A resume keeps those records as they are, so a sweep that mixes them
+// is no longer one grid; one line each: "ID: made by `...`, the spec now runs `...`".
+std::vector<std::string> recordsOfAnotherCommand(const std::string& out, const std::vector<SweepCase>& cases);
+
 // Builds the record of a finished solve from its folder (summary.json, optimize.log) and runs
 // the replay check. `command` is the reproducing command line.
 SweepRecord makeRecord(const SweepCase& c, const std::string& case_dir, int exit_code, const std::string& command,

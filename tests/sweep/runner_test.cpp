@@ -120,6 +120,43 @@ TEST(Runner, SolvesStartSeedBySeedAndAResumeRunsOnlyTheCasesWithoutARecord) {
   fs::remove_all(dir);
 }
 
+// A record made by another command than its case runs now (the spec changed since) is named; one
+// whose folder has moved (another --out) is not.
+TEST(Runner, RecordsOfAnotherCommandThanTheSpecGivesAreNamed) {
+  const fs::path dir = runnerScratch("another");
+  std::vector<SweepCase> cases = oneCase();
+  SweepCase second = cases[0];
+  second.seed = 2;
+  second.id = "point_mass_drop__impulsive__seed=2";
+  cases.push_back(second);
+  const std::string out = (dir / "out").string();
+  EXPECT_TRUE(recordsOfAnotherCommand(out, cases).empty());  // no records yet
+  const auto write = [&](const SweepCase& c, const std::string& command) {
+    fs::create_directories(caseDirectory(out, c));
+    SweepRecord r;
+    r.id = c.id;
+    r.problem = r.problem_name = c.problem;
+    r.method = c.method;
+    r.seed = c.seed;
+    r.status = "error";
+    r.command = command;
+    std::ofstream(fs::path(caseDirectory(out, c)) / "record.json") << toJson(r).dump(2);
+  };
+  const std::string moved = optimizeCommand(cases[0], (dir / "elsewhere/runs" / cases[0].id).string());
+  ASSERT_NE(moved, optimizeCommand(cases[0], caseDirectory(out, cases[0])));
+  write(cases[0], moved);
+  EXPECT_TRUE(recordsOfAnotherCommand(out, cases).empty());
+
+  SweepCase changed = cases[1];
+  changed.options.restarts = 3;
+  write(cases[1], optimizeCommand(changed, caseDirectory(out, cases[1])));
+  const std::vector<std::string> other = recordsOfAnotherCommand(out, cases);
+  ASSERT_EQ(other.size(), 1u);
+  EXPECT_EQ(other[0].rfind(cases[1].id + ": made by `saltus optimize point_mass_drop", 0), 0u) << other[0];
+  EXPECT_NE(other[0].find("--restarts 3"), std::string::npos) << other[0];
+  fs::remove_all(dir);
+}
+
 TEST(Runner, ASecondSweepInALockedFolderIsRefused) {
   const fs::path dir = runnerScratch("locked");
   DirectoryLock held(dir.string());
