@@ -354,6 +354,12 @@ TEST(SweepSpec, EveryShippedSpecExpands) {
   EXPECT_GE(specs, 10);
 }
 
+// A sweep's problem file (bench/sweeps/problems/), loaded with the overrides.
+saltus::collocation::Problem sweepProblem(const std::string& file, const std::map<std::string, double>& overrides) {
+  return saltus::collocation::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / file).string(),
+                                          overrides);
+}
+
 // A sweep's copy of a problem with a continuation (bench/sweeps/problems/) is that problem but for
 // its steps: the same parameters, and the same feasibility-stage NLP (bounds, objective and
 // constraints, hints included) at a perturbed point, to the last digit; its `steps` steps, the
@@ -363,8 +369,7 @@ std::map<std::string, double> expectTheProblemWithItsSteps(const std::string& na
                                                            std::size_t steps = 2, double first_g = 0.5) {
   namespace c = saltus::collocation;
   const c::Problem plain = c::loadProblem(name, overrides);
-  const c::Problem copy =
-      c::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / copy_file).string(), overrides);
+  const c::Problem copy = sweepProblem(copy_file, overrides);
   EXPECT_TRUE(plain.continuation.empty());
   EXPECT_EQ(copy.continuation.size(), steps);
   if (copy.continuation.empty()) return {};
@@ -412,11 +417,8 @@ TEST(SweepSpec, TheShippedQuarterContinuationProblemIsOllieWithItsSteps) {
   const auto first = expectTheProblemWithItsSteps("ollie", "ollie_continuation_quarter.yaml", {{"assist", 3.0}}, 3, 0.25);
   EXPECT_DOUBLE_EQ(first.at("assist"), 12.0);
   EXPECT_DOUBLE_EQ(first.at("assist_theta"), 12.0);
-  namespace c = saltus::collocation;
-  const auto load = [](const char* file) {
-    return c::loadProblem((fs::path(SALTUS_SOURCE_DIR) / "bench" / "sweeps" / "problems" / file).string(), {{"assist", 3.0}});
-  };
-  const c::Problem quarter = load("ollie_continuation_quarter.yaml"), half = load("ollie_continuation.yaml");
+  const saltus::collocation::Problem quarter = sweepProblem("ollie_continuation_quarter.yaml", {{"assist", 3.0}});
+  const saltus::collocation::Problem half = sweepProblem("ollie_continuation.yaml", {{"assist", 3.0}});
   ASSERT_EQ(quarter.continuation.size(), half.continuation.size() + 1);
   for (std::size_t i = 0; i < half.continuation.size(); ++i) {
     EXPECT_EQ(quarter.continuation[i + 1].problem->parameters, half.continuation[i].problem->parameters) << i;
