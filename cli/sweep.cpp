@@ -201,16 +201,16 @@ int sweepCommand(const SweepOptions& opt) {
     return 0;
   }
   if (fs::exists(opt.out) && !fs::is_directory(opt.out)) throw UsageError("--out " + opt.out + ": exists and is not a directory");
-  if (slurm) return submitSweep(opt, cases, skipped);
-  fs::create_directories(opt.out);
-  slurm::refuseWhileActive(opt.out);  // a Slurm array of this sweep would run the same solves
-  slurm::writeSweepFolder(opt.out, {opt.spec, opt.out, fs::current_path().string()});
   // A resume keeps every record: say which were made by another command than the spec gives now.
   if (const std::vector<std::string> other = recordsOfAnotherCommand(opt.out, cases); !other.empty())
     std::cerr << "saltus sweep: warning: " << other.size() << " record(s) in " << opt.out
               << " were made by another command than the spec gives now, and are kept as they are (remove a "
                  "case's folder under runs/ to solve it again): "
               << other.front() << (other.size() > 1 ? "; ..." : "") << "\n";
+  if (slurm) return submitSweep(opt, cases, skipped);
+  fs::create_directories(opt.out);
+  slurm::refuseWhileActive(opt.out);  // a Slurm array of this sweep would run the same solves
+  slurm::writeSweepFolder(opt.out, {opt.spec, opt.out, fs::current_path().string()});
   RunnerOptions ro;
   ro.saltus = fs::read_symlink("/proc/self/exe").string();
   ro.jobs = opt.jobs > 0 ? opt.jobs : std::max(1u, std::thread::hardware_concurrency());

@@ -70,10 +70,11 @@ std::vector<SweepRecord> readRecords(const std::string& out, const std::vector<S
 
 // The `saltus optimize` command line a case's solve runs (its folder: case_dir), as a record shows it.
 std::string optimizeCommand(const SweepCase& c, const std::string& case_dir);
-// The cases whose record (in DIR) was made by another command than the case runs now, compared
-// without their --out (the folder may have moved since): the spec changed, or the options the
-// spec leaves to saltus did. A resume keeps those records as they are, so a sweep that mixes them
-// is no longer one grid; one line each: "ID: made by `...`, the spec now runs `...`".
+// The cases whose record (in DIR) was made by another command than the case runs now, compared as
+// text without their --out (the folder may have moved since): the spec changed since. Paths are
+// compared as written, so a spec given by another path (absolute, or from another folder) flags
+// every record. A resume keeps those records as they are, so a sweep that mixes them is no longer
+// one grid; one line each: "ID: made by `...`, the spec now runs `...`".
 std::vector<std::string> recordsOfAnotherCommand(const std::string& out, const std::vector<SweepCase>& cases);
 
 // Builds the record of a finished solve from its folder (summary.json, optimize.log) and runs

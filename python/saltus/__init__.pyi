@@ -117,6 +117,7 @@ def optimize(problem: Union[Problem, str], *, method: str = "impulsive", N: Opti
              hessian: Optional[str] = None, feasibility_hessian: Optional[str] = None,
              ipopt: Dict[str, str] = ..., print_level: int = 0,
              tighten_within: Optional[float] = None, tighten_factor: Optional[float] = None,
+             feasibility_repeats: Optional[int] = None,
              task_max_iter: Optional[int] = None,
              penalty_iterations: Optional[int] = None, task_penalty: Optional[bool] = None,
              task_ipopt: Dict[str, str] = ..., hints: bool = True, continuation: bool = True,

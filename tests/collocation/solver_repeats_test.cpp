@@ -61,8 +61,8 @@ TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
   s.rows = trajectory(t, r.x);
   checkDrop(s, 0.0);
 
-  // A repeat that ends no nearer a feasible point (here under μ₀ = 1e-3 and a push of 0.1, at
-  // products of 3e-3) ends the repeats, and the point before it is the result.
+  // A repeat that ends at higher products (here under μ₀ = 1e-3 and a push of 0.1, at 3e-3) ends
+  // the repeats, and the point before it is the result, as the note says.
   caller.ipopt = {{"mu_init", "1e-3"}, {"bound_push", "0.1"}, {"bound_frac", "0.1"}};
   caller.feasibility_repeats = 3;
   const SolveReport farther = solve(t, warm, caller);
@@ -72,6 +72,7 @@ TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
   EXPECT_FALSE(farther.feasible);
   EXPECT_EQ(farther.largest_product, farther.stages[0].largest_product);
   EXPECT_EQ(farther.x, stuck.x);
+  EXPECT_NE(farther.note.find("kept the point before it"), std::string::npos) << farther.note;
 }
 
 // A stage that Ipopt did not solve is not repeated (the tightening takes a stage stopped on its
