@@ -346,7 +346,11 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
          ++i) {
       const Eigen::VectorXd before = x;
       const Multipliers multipliers_before = multipliers;
-      report.stages.push_back(runStage(t, Stage::Feasibility, before, {}, again, x, multipliers, report));
+      // From its end made consistent, as a seed from a saved solution is: the gaps, the free points,
+      // the slips and restitution pairs from the kinematics, every ε at its product.
+      Eigen::VectorXd start = before;
+      t.makeConsistent(start);
+      report.stages.push_back(runStage(t, Stage::Feasibility, start, {}, again, x, multipliers, report));
       const StageReport repeat = report.stages.back();
       // Kept when Ipopt solved it (to its tolerance or its acceptable level) to lower products: the
       // penalty is what the stage minimises. Its constraints need not be within the feasibility
