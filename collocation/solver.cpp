@@ -301,6 +301,8 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
   const auto feasibleEnd = [&](const StageReport& s) {
     return s.largest_product <= tolerance && s.largest_violation <= options.violation_tolerance;
   };
+  // The note tells how the result was reached, stage by stage: each stage's remark is added to it.
+  const auto addNote = [&](const std::string& text) { report.note += (report.note.empty() ? "" : "; ") + text; };
   const auto keptNote = [](const StageReport& s) {
     return "the " + s.name + " stage ended " + s.status + "; kept the best feasible point it evaluated (a trial of iteration " +
            std::to_string(s.kept_iteration) + ")";
@@ -365,8 +367,10 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
         x = before;
         multipliers = multipliers_before;
         if (!report.interrupted)
-          report.note = "the feasibility stage's repeat ended " + repeat.status + " at products of " +
-                        std::to_string(repeat.largest_product) + ", no lower; kept the point before it";
+          addNote("the feasibility stage's repeat ended " + repeat.status + " at products of " +
+                  std::to_string(repeat.largest_product) +
+                  (repeat.largest_product < first.largest_product ? ", lower but not solved" : ", no lower") +
+                  "; kept the point before it");
         break;
       }
     }
@@ -401,11 +405,11 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     const StageReport& tight = report.stages.back();
     if (feasibleEnd(tight)) {
       kept = report.stages.size() - 1;
-      if (tight.kept_iteration >= 0) report.note = keptNote(tight);
+      if (tight.kept_iteration >= 0) addNote(keptNote(tight));
       return true;
     }
     x = x1;
-    report.note = "the tightening stage ended " + tight.status + "; kept the feasibility stage's point";
+    addNote("the tightening stage ended " + tight.status + "; kept the feasibility stage's point");
     return false;
   };
   // The penalty stage (Problem::penalty_iterations) first; when it ends without a feasible point,
@@ -433,19 +437,19 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
       kept = report.stages.size() - 1;
       if (second.kept_iteration >= 0) {
         t.tightenMaxVariable(x);
-        report.note = keptNote(second);
+        addNote(keptNote(second));
       }
     } else if (!feasible) {
       // Neither point is feasible: the earlier one is the nearer (a seed to continue from).
       x = x1;
-      report.note += std::string(report.note.empty() ? "" : "; ") + "the task stage ended " + second.status +
-                     " no nearer a feasible point; kept the " + report.stages[kept].name + " stage's point";
+      addNote("the task stage ended " + second.status + " no nearer a feasible point; kept the " +
+              report.stages[kept].name + " stage's point");
     } else {
       // The earlier stage's point satisfies every constraint of the problem (hints only add
       // bounds): a valid trajectory, whose task cost the failed stage did not minimise.
       x = x1;
-      report.note = "the task stage ended " + second.status + " at an infeasible point; kept the " +
-                    report.stages[kept].name + " stage's solution";
+      addNote("the task stage ended " + second.status + " at an infeasible point; kept the " +
+              report.stages[kept].name + " stage's solution");
     }
   }
   report.x = x;

@@ -14,7 +14,9 @@ problem), the help lowered step by step:
 Each step is `saltus optimize PROBLEM --seed-from PREVIOUS --seed-scale 0 --restarts 0 --set
 NAME=VALUE` with the solve options given here, saved to DIR/NAME_VALUE. A step that ends
 infeasible is solved once more from its own end (a feasibility stage stopped by its iteration
-limit goes on from where it was; that end is kept in DIR/NAME_VALUE.unfinished); if that fails
+limit goes on from where it was; that end is kept in DIR/NAME_VALUE.unfinished). With
+--feasibility-repeats K, a feasibility stage that Ipopt solves above the tolerance is repeated
+within the step, before its tightening (saltus optimize --feasibility-repeats). If the retry fails
 too, the step is halved (a value half way from the last feasible one), down to --min-step. The
 chain can be stopped and started again: a step whose folder holds a feasible solution is read,
 not solved again. Each step prints its result and, for the inputs named by --report, the largest
@@ -107,6 +109,8 @@ def main(argv=None):
     parser.add_argument("--no-hints", action="store_true", help="solve without the problem file's hints")
     parser.add_argument("--task-max-iter", type=int, default=None, help="the task stage's iteration limit")
     parser.add_argument("--feasibility-hessian", choices=["exact", "limited-memory"], default=None)
+    parser.add_argument("--feasibility-repeats", type=int, default=None, metavar="K",
+                        help="repeats of a feasibility stage solved above the tolerance (saltus optimize's option)")
     parser.add_argument("--ipopt", type=assignment, action="append", default=[], metavar="NAME=VALUE",
                         help="an Ipopt option (repeatable)")
     parser.add_argument("--min-step", type=float, default=0.1, help="the smallest step when halving")
@@ -115,6 +119,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.seed_from and not os.path.isfile(os.path.join(args.seed_from, "variables.csv")):
         parser.error(f"--seed-from {args.seed_from}: expected a solution folder holding variables.csv")
+    if args.feasibility_repeats is not None and args.feasibility_repeats < 0:
+        parser.error(f"--feasibility-repeats: expected a count of 0 or more, got {args.feasibility_repeats}")
     if args.min_step <= 0:
         parser.error(f"--min-step: expected a positive step, got {args.min_step}")
     fixed = {}
@@ -137,6 +143,7 @@ def main(argv=None):
     def solve(seed_dir, value, attempt):
         options = dict(method=args.method, seed_scale=0.0, restarts=0, hints=not args.no_hints,
                        task_max_iter=args.task_max_iter, feasibility_hessian=args.feasibility_hessian,
+                       feasibility_repeats=args.feasibility_repeats,
                        ipopt=dict(args.ipopt), print_level=args.print_level, set={**fixed, args.parameter: value})
         if seed_dir:
             options["seed_from"] = seed_dir

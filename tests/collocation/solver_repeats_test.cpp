@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "collocation/problem_file.hpp"
 #include "collocation/seeding.hpp"
@@ -72,7 +73,53 @@ TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
   EXPECT_FALSE(farther.feasible);
   EXPECT_EQ(farther.largest_product, farther.stages[0].largest_product);
   EXPECT_EQ(farther.x, stuck.x);
-  EXPECT_NE(farther.note.find("kept the point before it"), std::string::npos) << farther.note;
+  EXPECT_NE(farther.note.find("no lower; kept the point before it"), std::string::npos) << farther.note;
+}
+
+// The result's note tells each stage's end in turn. A repeat stopped at its iteration limit (70
+// here) below the products it started from, with the constraints still 6e-5 off, is "lower but not
+// solved". On the drop with a task cost the repeat ends no lower, and the tightening and the task
+// stage both fail after it: each adds its remark, and none replaces the one before it.
+TEST(Solver, TheNoteTellsEachStagesEnd) {
+  const Problem p = nearMissDrop();
+  const Transcription t(p, Method::Impulsive);
+  SolveOptions untightened;
+  untightened.tighten_within = 0;
+  const SolveReport near = solve(t, makeSeeding(t).seed, untightened);
+  const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
+  SolveOptions limited = untightened;
+  limited.feasibility_repeats = 1;
+  limited.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}, {"max_iter", "70"}};
+  const SolveReport unsolved = solve(t, warm, limited);
+  ASSERT_EQ(unsolved.stages.size(), 2u);
+  ASSERT_EQ(unsolved.stages[1].status, "Maximum_Iterations_Exceeded");
+  ASSERT_LT(unsolved.stages[1].largest_product, unsolved.stages[0].largest_product);
+  ASSERT_GT(unsolved.stages[1].largest_violation, SolveOptions{}.violation_tolerance);
+  EXPECT_EQ(unsolved.kept_stage, 0);
+  EXPECT_NE(unsolved.note.find("repeat ended Maximum_Iterations_Exceeded"), std::string::npos) << unsolved.note;
+  EXPECT_NE(unsolved.note.find("lower but not solved; kept the point before it"), std::string::npos)
+      << unsolved.note;
+
+  Problem task_problem = nearMissDrop();
+  testing::withHeightCost(task_problem);
+  const Transcription task(task_problem, Method::Impulsive);
+  const SolveReport task_near = solve(task, makeSeeding(task).seed, untightened);
+  const SeedFunction task_warm = [&](int) { return Seed{task_near.x, true, true, true}; };
+  SolveOptions repeated;
+  repeated.feasibility_repeats = 1;
+  repeated.ipopt = {{"mu_init", "1e-3"}, {"bound_push", "0.1"}, {"bound_frac", "0.1"}};
+  const SolveReport r = solve(task, task_warm, repeated);
+  ASSERT_GE(r.stages.size(), 4u);
+  EXPECT_FALSE(r.feasible);
+  EXPECT_EQ(r.kept_stage, 0);
+  const std::vector<std::string> remarks = {"repeat ended Solve_Succeeded", "no lower; kept the point before it",
+                                            "the tightening stage ended", "the task stage ended"};
+  std::size_t at = 0;
+  for (const std::string& remark : remarks) {
+    const std::size_t found = r.note.find(remark, at);
+    EXPECT_NE(found, std::string::npos) << "'" << remark << "' after character " << at << " of: " << r.note;
+    if (found != std::string::npos) at = found + remark.size();
+  }
 }
 
 // A stage that Ipopt did not solve is not repeated (the tightening takes a stage stopped on its

@@ -21,12 +21,13 @@ def summary(folder):
 
 def test_each_step_is_seeded_by_the_last_and_a_rerun_keeps_them(script, tmp_path, capsys):
     out = tmp_path / "chain"
-    assert script.main(["point_mass_drop", "--parameter", "height", "--values", "0.1,0.2,0.3", "--out", str(out)]) == 0
+    assert script.main(["point_mass_drop", "--parameter", "height", "--values", "0.1,0.2,0.3", "--out", str(out),
+                        "--feasibility-repeats", "1"]) == 0
     steps = [out / f"height_{h:g}" for h in (0.1, 0.2, 0.3)]
     for h, folder in zip((0.1, 0.2, 0.3), steps):
         s = summary(folder)
         assert s["feasible"] and s["parameters"]["height"] == pytest.approx(h)
-        assert s["restarts"] == 0 and s["seed_scale"] == 0
+        assert s["restarts"] == 0 and s["seed_scale"] == 0 and s["feasibility_repeats"] == 1
     assert summary(steps[0])["seed"] != "solution"  # the problem's own seed
     for previous, folder in zip(steps, steps[1:]):
         s = summary(folder)
@@ -133,4 +134,6 @@ def test_bad_arguments_name_what_was_expected(script, tmp_path, capsys):
                                                                          "--report", "force")
     assert "expected a solution folder holding variables.csv" in error("--parameter", "height", "--values", "1",
                                                                        "--seed-from", str(tmp_path))
+    assert "--feasibility-repeats: expected a count of 0 or more, got -1" in error(
+        "--parameter", "height", "--values", "1", "--feasibility-repeats", "-1")
     assert not (tmp_path / "x").exists()
