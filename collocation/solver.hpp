@@ -140,7 +140,7 @@ struct SolveOptions {
   // from its saved end (a second solve) ended at 0.069 and the tightening from there was
   // feasible (README).
   int feasibility_repeats = 0;
-  // The feasibility (or penalty) stage alone: no tightening and no task stage (a step of a
+  // The feasibility (or penalty) stage alone, with its repeats: no tightening and no task stage (a step of a
   // continuation in the problem's parameters, whose end only seeds the next step).
   bool feasibility_only = false;
   // After an attempt that ends infeasible, up to this many further attempts, each from

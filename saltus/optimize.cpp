@@ -191,13 +191,18 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
           SolveOptions step = options;
           step.feasibility_only = true;
           step.restarts = step.resimulations = 0;
-          step.feasibility_repeats = 0;  // a step's end only seeds the next: the problem's own stage repeats
+          // A step's feasibility stage that Ipopt solves at a local minimum above the tolerance is
+          // repeated as the problem's own is (SolveOptions::feasibility_repeats): on the full-body
+          // Ollie (quarter-gravity continuation, assist 3, seed 4) the first step ended so at
+          // products of 1.84, and the problem's stage from the steps' end at 5.0 (README).
           step.resimulate = nullptr;
           step.warm_seed = options.warm_seed || s.warm;
           step.keep_warm_start = i > 0 || (s.warm && s.keep_warm_start);
           step.hints = options.hints && s.hinted;
           const SolveReport r = collocation::solve(*steps[i].transcription, s.x, step);
-          o.continuation.push_back({k, static_cast<int>(i), adjusted.continuation[i].parameters, r.stages.back()});
+          for (std::size_t j = 0; j < r.stages.size(); ++j)  // the stage whose end seeds the next is kept
+            o.continuation.push_back({k, static_cast<int>(i), adjusted.continuation[i].parameters, r.stages[j],
+                                      static_cast<int>(j) == r.kept_stage});
           s = collocation::Seed{r.x, true, false, true};
         }
         s.hinted = hinted;
@@ -277,6 +282,8 @@ std::string summaryJson(const OptimizeResult& o) {
     j["continuation"].push_back({{"attempt", c.attempt},
                                  {"step", c.step},
                                  {"parameters", c.parameters},
+                                 {"stage", c.stage.name},
+                                 {"kept", c.kept},
                                  {"status", c.stage.status},
                                  {"largest_product", c.stage.largest_product},
                                  {"largest_product_at", c.stage.largest_product_at},

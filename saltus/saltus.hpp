@@ -169,12 +169,15 @@ struct OptimizeOptions {
 // order from 1 to 9, got 12"; also for a print level outside 0 … 12).
 collocation::Problem adjustedProblem(collocation::Problem problem, const OptimizeOptions& options);
 
-// A step of the problem's continuation (collocation::Problem::continuation) run for a seed.
+// A stage of a step of the problem's continuation (collocation::Problem::continuation) run for a
+// seed: its feasibility stage, a penalty stage before it, or a repeat of it
+// (SolveOptions::feasibility_repeats), one report each, in the order they ran.
 struct ContinuationStepReport {
   int attempt = 0;  // the solve's attempt whose seed it carried (AttemptReport::attempt)
   int step = 0;     // its index in Problem::continuation
   std::map<std::string, double> parameters;  // the step's values
-  collocation::StageReport stage;             // its feasibility stage (the last, after a penalty stage)
+  collocation::StageReport stage;
+  bool kept = true;  // the stage whose end seeded the next step (or the problem's solve)
 };
 
 struct OptimizeResult {

@@ -17,6 +17,7 @@
 #include "collocation/saved_solution.hpp"
 #include "collocation/seeding.hpp"
 #include "saltus/saltus.hpp"
+#include "tests/support/near_miss_drop.hpp"
 
 namespace {
 
@@ -315,6 +316,70 @@ TEST(ApiOptimizeContinuation, TheProblemsOwnSolveKeepsTheSeedsHints) {
   EXPECT_EQ((with.x - r.report.x).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(with.stages.front().iterations, r.report.stages.front().iterations);
   EXPECT_GT((without.x - r.report.x).cwiseAbs().maxCoeff(), 0.0) << "the hint changes the first stage";
+}
+
+// A step whose feasibility stage Ipopt solves at a local minimum above the tolerance is repeated
+// from its end as the problem's own stage is (SolveOptions::feasibility_repeats), and the repeat's
+// end seeds the solve. The near-miss drop (its stage from the perturbed simulation seed 5 ends so)
+// with one step that is the problem itself: the step's two stages are, iteration for iteration,
+// the feasibility stage and its repeat of the problem solved by hand; each is reported, the
+// repeat kept; without the repeat the step is the one stage, kept.
+TEST(ApiOptimizeContinuation, AStepSolvedAboveTheToleranceIsRepeated) {
+  using saltus::collocation::Problem;
+  namespace c = saltus::collocation;
+  Problem problem = saltus::testing::nearMissDrop();
+  c::ContinuationStep itself;
+  itself.parameters = {{"restitution", 0}};
+  itself.problem = std::make_shared<const Problem>(problem);
+  problem.continuation = {itself};
+  saltus::OptimizeOptions options;
+  options.restarts = 0;
+  options.solve.feasibility_repeats = 1;
+  const saltus::OptimizeResult r = saltus::optimize(problem, options);
+  ASSERT_EQ(r.continuation.size(), 2u);
+  const c::StageReport& first = r.continuation[0].stage;
+  const c::StageReport& repeat = r.continuation[1].stage;
+  EXPECT_EQ(first.status, "Solve_Succeeded");
+  EXPECT_GT(first.largest_product, problem.complementarity_tolerance);
+  EXPECT_FALSE(r.continuation[0].kept);
+  EXPECT_TRUE(r.continuation[1].kept);
+  EXPECT_EQ(r.continuation[1].step, 0);
+  EXPECT_EQ(repeat.name, "feasibility");
+  EXPECT_LT(repeat.largest_product, first.largest_product);
+  EXPECT_TRUE(r.feasible()) << r.report.keptStage().status << ", products " << r.report.largest_product;
+
+  // By hand: the step's stage and its repeat, as the problem's own feasibility stage.
+  const c::Transcription& t = *r.transcription;
+  const c::Seed seed = c::makeSeeding(t).seed(0);
+  c::SolveOptions only = options.solve;
+  only.feasibility_only = true;
+  only.warm_seed = seed.warm;
+  const c::SolveReport by_hand = c::solve(t, seed.x, only);
+  ASSERT_EQ(by_hand.stages.size(), 2u);
+  EXPECT_EQ(by_hand.stages[0].iterations, first.iterations);
+  EXPECT_EQ(by_hand.stages[1].iterations, repeat.iterations);
+  EXPECT_EQ(by_hand.kept_stage, 1);
+  const c::SolveReport rest =
+      c::solve(t, [&](int) { return c::Seed{by_hand.x, true, false, true}; }, options.solve);
+  EXPECT_EQ((rest.x - r.report.x).cwiseAbs().maxCoeff(), 0.0);
+
+  // Both stages count in the totals and are in summary.json, the one kept marked.
+  int own = 0;
+  for (const auto& s : r.report.stages) own += s.iterations;
+  EXPECT_EQ(r.report.iterations, own + first.iterations + repeat.iterations);
+  const nlohmann::json j = nlohmann::json::parse(saltus::summaryJson(r));
+  ASSERT_EQ(j.at("continuation").size(), 2u);
+  EXPECT_FALSE(j.at("continuation")[0].at("kept").get<bool>());
+  EXPECT_TRUE(j.at("continuation")[1].at("kept").get<bool>());
+  EXPECT_EQ(j.at("continuation")[1].at("stage").get<std::string>(), "feasibility");
+  EXPECT_EQ(j.at("continuation")[1].at("iterations").get<int>(), repeat.iterations);
+
+  saltus::OptimizeOptions once = options;
+  once.solve.feasibility_repeats = 0;
+  const saltus::OptimizeResult unrepeated = saltus::optimize(problem, once);
+  ASSERT_EQ(unrepeated.continuation.size(), 1u);
+  EXPECT_TRUE(unrepeated.continuation[0].kept);
+  EXPECT_EQ(unrepeated.continuation[0].stage.iterations, first.iterations);
 }
 
 // A problem file's solve.<method> keys (Problem::method_solve) take the place of the problem's
