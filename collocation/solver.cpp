@@ -338,17 +338,17 @@ SolveReport solve(const Transcription& t, const Eigen::VectorXd& x0, const Solve
     first = report.stages.back();  // a copy: later push_backs reallocate
     kept = report.stages.size() - 1;
     if (feasibleEnd(first)) return true;
-    // A local minimum of the penalty above the tolerance, solved to Ipopt's tolerance or to its
-    // acceptable level: the stage again from its end, warm (a fresh, small barrier) and under the
-    // caller's bound push (SolveOptions::feasibility_repeats). On the full-body Ollie through the
-    // quarter-gravity continuation (assist 3, seed 4) the stage ended at the acceptable level at
-    // products of 5.0; the same stage as a second solve from that saved end was solved at 0.027,
-    // and the solve from there was feasible.
+    // A local minimum of the penalty above the tolerance that Ipopt solved to its tolerance: the
+    // stage again from its end, warm (a fresh, small barrier) and under the caller's bound push
+    // (SolveOptions::feasibility_repeats). Not one that Ipopt ended at its acceptable level: on
+    // the full-body Ollie's quarter-gravity sweep (assist 3) repeating those as well rescued seed 4
+    // and lost seeds 2 and 3, 4 of seeds 1-7 feasible against 5, the feasible ones slower (a
+    // median of 1,704 s against 974; README).
     SolveOptions again = options;
     again.warm_seed = true;
     again.keep_warm_start = false;
-    for (int i = 0; stage == Stage::Feasibility && i < options.feasibility_repeats && first.succeeded &&
-                    !report.interrupted;
+    for (int i = 0; stage == Stage::Feasibility && i < options.feasibility_repeats &&
+                    first.status_code == Ipopt::Solve_Succeeded && !report.interrupted;
          ++i) {
       const Eigen::VectorXd before = x;
       const Multipliers multipliers_before = multipliers;

@@ -1,7 +1,7 @@
 // The solver's repeats of the feasibility stage (SolveOptions::feasibility_repeats): a stage that
-// Ipopt solved (to its tolerance or its acceptable level) at a local minimum of the penalty above
-// the tolerance runs again from its end, warm, under the caller's bound push; not after a stage
-// stopped at its limit, and not once feasible.
+// Ipopt solved to its tolerance at a local minimum of the penalty above the tolerance runs again
+// from its end, warm, under the caller's bound push; not after a stage ended at Ipopt's acceptable
+// level or stopped at its limit, and not once feasible.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -77,12 +77,13 @@ TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
   EXPECT_NE(farther.note.find("no lower; kept the point before it"), std::string::npos) << farther.note;
 }
 
-// A stage that Ipopt ends at its acceptable level above the tolerance is repeated as one it solved
-// to its tolerance is. Under tolerances it cannot reach (tol and constr_viol_tol 1e-30) the near
-// miss's warm stage stops at the acceptable level at its local minimum; the repeat, under the
-// caller's barrier start and bound push, leaves it and reaches the drop. Without the repeat the
-// solve ends at the minimum.
-TEST(Solver, AStageEndedAtTheAcceptableLevelIsRepeated) {
+// A stage that Ipopt ends at its acceptable level above the tolerance is not repeated (on the
+// full-body Ollie's quarter-gravity sweep repeating those lost more seeds than it rescued, README).
+// Under tolerances it cannot reach (tol and constr_viol_tol 1e-30) the near miss's warm stage stops
+// at the acceptable level at its local minimum; with repeats allowed, under the barrier start and
+// bound push with which a repeat of a solved stage leaves that minimum (the first test), the solve
+// is still that one stage.
+TEST(Solver, AStageEndedAtTheAcceptableLevelIsNotRepeated) {
   const Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
   SolveOptions untightened;
@@ -92,26 +93,20 @@ TEST(Solver, AStageEndedAtTheAcceptableLevelIsRepeated) {
 
   const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
   SolveOptions caller = untightened;
-  caller.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}, {"tol", "1e-30"}, {"constr_viol_tol", "1e-30"}};
+  caller.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}, {"tol", "1e-30"},
+                  {"constr_viol_tol", "1e-30"}};
   const SolveReport stuck = solve(t, warm, caller);
   ASSERT_EQ(stuck.stages.size(), 1u);
-  EXPECT_EQ(stuck.stages[0].status, "Solved_To_Acceptable_Level");
-  EXPECT_FALSE(stuck.feasible);
-  EXPECT_GT(stuck.largest_product, p.complementarity_tolerance);
+  ASSERT_EQ(stuck.stages[0].status, "Solved_To_Acceptable_Level");
+  ASSERT_FALSE(stuck.feasible);
+  ASSERT_GT(stuck.largest_product, p.complementarity_tolerance);
 
   caller.feasibility_repeats = 3;
   const SolveReport r = solve(t, warm, caller);
-  ASSERT_EQ(r.stages.size(), 2u);  // the first repeat is feasible: no more
-  EXPECT_EQ(r.stages[0].status, "Solved_To_Acceptable_Level");
+  ASSERT_EQ(r.stages.size(), 1u);
   EXPECT_EQ(r.stages[0].iterations, stuck.stages[0].iterations);
-  EXPECT_EQ(r.stages[1].name, "feasibility");
-  EXPECT_EQ(r.stages[1].barrier, "monotone");  // warm
-  EXPECT_EQ(r.kept_stage, 1);
-  EXPECT_TRUE(r.feasible) << r.stages[1].status << ", largest product " << r.largest_product;
-  Solved s;
-  s.report = r;
-  s.rows = trajectory(t, r.x);
-  checkDrop(s, 0.0);
+  EXPECT_EQ(r.x, stuck.x);
+  EXPECT_FALSE(r.feasible);
 }
 
 // The result's note tells each stage's end in turn. A repeat stopped at its iteration limit (70
