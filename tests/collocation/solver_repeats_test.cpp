@@ -21,6 +21,22 @@ using testing::checkDrop;
 using testing::nearMissDrop;
 using testing::Solved;
 
+// Without the tightening, so that a stage's end is the solve's result.
+SolveOptions untightened() {
+  SolveOptions o;
+  o.tighten_within = 0;
+  return o;
+}
+
+// The stage's end from the problem's own seeding, untightened: on the near miss a local minimum of
+// the penalty above the tolerance.
+SolveReport untightenedEnd(const Transcription& t) { return solve(t, makeSeeding(t).seed, untightened()); }
+
+// A solve's end as a warm seed that keeps its warm start, as a continuation's last step hands over.
+SeedFunction warmFrom(const SolveReport& r) {
+  return [x = r.x](int) { return Seed{x, true, true, true}; };
+}
+
 // The near miss's local minimum (products 1.5e-4, constraints met) as a warm seed that keeps its
 // warm start, as a continuation's last step hands over: its first stage starts at μ₀ = 1e-4, 1e-6
 // inside its bounds, whatever the caller's options, and ends at the same minimum. A repeat is warm
@@ -30,15 +46,13 @@ using testing::Solved;
 TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
   const Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
-  SolveOptions untightened;
-  untightened.tighten_within = 0;
-  const SolveReport near = solve(t, makeSeeding(t).seed, untightened);
+  const SolveReport near = untightenedEnd(t);
   ASSERT_FALSE(near.feasible);
   ASSERT_EQ(near.stages.at(0).status, "Solve_Succeeded");
   ASSERT_GT(near.largest_product, p.complementarity_tolerance);
 
-  const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
-  SolveOptions caller = untightened;
+  const SeedFunction warm = warmFrom(near);
+  SolveOptions caller = untightened();
   caller.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}};
   const SolveReport stuck = solve(t, warm, caller);
   ASSERT_EQ(stuck.stages.size(), 1u);
@@ -86,13 +100,11 @@ TEST(Solver, ARepeatedFeasibilityStageLeavesALocalMinimumAboveTheTolerance) {
 TEST(Solver, AStageEndedAtTheAcceptableLevelIsNotRepeated) {
   const Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
-  SolveOptions untightened;
-  untightened.tighten_within = 0;
-  const SolveReport near = solve(t, makeSeeding(t).seed, untightened);
+  const SolveReport near = untightenedEnd(t);
   ASSERT_FALSE(near.feasible);
 
-  const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
-  SolveOptions caller = untightened;
+  const SeedFunction warm = warmFrom(near);
+  SolveOptions caller = untightened();
   caller.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}, {"tol", "1e-30"},
                   {"constr_viol_tol", "1e-30"}};
   const SolveReport stuck = solve(t, warm, caller);
@@ -116,11 +128,8 @@ TEST(Solver, AStageEndedAtTheAcceptableLevelIsNotRepeated) {
 TEST(Solver, TheNoteTellsEachStagesEnd) {
   const Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
-  SolveOptions untightened;
-  untightened.tighten_within = 0;
-  const SolveReport near = solve(t, makeSeeding(t).seed, untightened);
-  const SeedFunction warm = [&](int) { return Seed{near.x, true, true, true}; };
-  SolveOptions limited = untightened;
+  const SeedFunction warm = warmFrom(untightenedEnd(t));
+  SolveOptions limited = untightened();
   limited.feasibility_repeats = 1;
   limited.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.05"}, {"bound_frac", "0.05"}, {"max_iter", "70"}};
   const SolveReport unsolved = solve(t, warm, limited);
@@ -136,8 +145,7 @@ TEST(Solver, TheNoteTellsEachStagesEnd) {
   Problem task_problem = nearMissDrop();
   testing::withHeightCost(task_problem);
   const Transcription task(task_problem, Method::Impulsive);
-  const SolveReport task_near = solve(task, makeSeeding(task).seed, untightened);
-  const SeedFunction task_warm = [&](int) { return Seed{task_near.x, true, true, true}; };
+  const SeedFunction task_warm = warmFrom(untightenedEnd(task));
   SolveOptions repeated;
   repeated.feasibility_repeats = 1;
   repeated.ipopt = {{"mu_init", "1e-3"}, {"bound_push", "0.1"}, {"bound_frac", "0.1"}};
@@ -162,8 +170,7 @@ TEST(Solver, OnlyASolvedStageAboveTheToleranceIsRepeated) {
   const Problem p = nearMissDrop();
   const Transcription t(p, Method::Impulsive);
   const Seeding seeding = makeSeeding(t);
-  SolveOptions limited;
-  limited.tighten_within = 0;
+  SolveOptions limited = untightened();
   limited.feasibility_repeats = 2;
   limited.ipopt["max_iter"] = "5";
   const SolveReport stopped = solve(t, seeding.seed, limited);
@@ -171,8 +178,7 @@ TEST(Solver, OnlyASolvedStageAboveTheToleranceIsRepeated) {
   EXPECT_EQ(stopped.stages[0].status, "Maximum_Iterations_Exceeded");
   EXPECT_FALSE(stopped.feasible);
 
-  SolveOptions pushed;
-  pushed.tighten_within = 0;
+  SolveOptions pushed = untightened();
   pushed.ipopt = {{"bound_push", "0.01"}, {"bound_frac", "0.01"}};
   const SolveReport once = solve(t, seeding.seed, pushed);
   ASSERT_TRUE(once.feasible) << once.stages[0].status << ", largest product " << once.largest_product;
