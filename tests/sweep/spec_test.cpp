@@ -425,6 +425,37 @@ TEST(SweepSpec, TheShippedQuarterContinuationProblemIsOllieWithItsSteps) {
   }
 }
 
+// The stronger rider's copy: at `strength` 1 the quarter continuation's problem, bound for bound
+// and step for step; at 3 each joint's torque bounds tripled in every step, the assist's as set.
+TEST(SweepSpec, TheShippedStrengthProblemScalesTheJointTorqueLimitsAlone) {
+  namespace c = saltus::collocation;
+  const c::Problem quarter = sweepProblem("ollie_continuation_quarter.yaml", {{"assist", 3.0}});
+  const c::Problem same = sweepProblem("ollie_strength.yaml", {{"assist", 3.0}});
+  const c::Problem strong = sweepProblem("ollie_strength.yaml", {{"strength", 3.0}});
+  ASSERT_EQ(same.inputs, quarter.inputs);
+  EXPECT_TRUE(same.input_lower.cwiseEqual(quarter.input_lower).all());
+  EXPECT_TRUE(same.input_upper.cwiseEqual(quarter.input_upper).all());
+  ASSERT_EQ(same.continuation.size(), quarter.continuation.size());
+  ASSERT_EQ(strong.continuation.size(), quarter.continuation.size());
+  const c::Problem plain = c::loadProblem("ollie", {});
+  const auto expectTripled = [&](const c::Problem& p, const std::string& where) {
+    for (std::size_t i = 0; i < p.inputs.size(); ++i) {
+      const std::string& name = p.scene.model.coordinate_name[p.inputs[i]];
+      const bool joint = name.rfind("rider_", 0) != 0;  // the assist acts on rider_x, rider_z, rider_theta
+      EXPECT_DOUBLE_EQ(p.input_lower[i], (joint ? 3.0 : 1.0) * plain.input_lower[i]) << where << name;
+      EXPECT_DOUBLE_EQ(p.input_upper[i], (joint ? 3.0 : 1.0) * plain.input_upper[i]) << where << name;
+    }
+  };
+  expectTripled(strong, "the problem: ");
+  for (std::size_t k = 0; k < strong.continuation.size(); ++k) {
+    expectTripled(*strong.continuation[k].problem, "step " + std::to_string(k) + ": ");
+    EXPECT_EQ(strong.continuation[k].problem->parameters.at("g"), quarter.continuation[k].problem->parameters.at("g"));
+  }
+  const c::Transcription a(*quarter.continuation[0].problem, c::Method::Impulsive),
+      b(*same.continuation[0].problem, c::Method::Impulsive);
+  EXPECT_EQ(a.variables(), b.variables());
+}
+
 TEST(SweepSpec, FormatsValuesToReadBackExactly) {
   EXPECT_EQ(formatValue(0.1), "0.1");
   EXPECT_EQ(formatValue(2), "2");
