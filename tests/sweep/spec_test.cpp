@@ -448,8 +448,12 @@ TEST(SweepSpec, TheShippedStrengthProblemScalesTheJointTorqueLimitsAlone) {
   };
   expectTripled(strong, "the problem: ");
   for (std::size_t k = 0; k < strong.continuation.size(); ++k) {
+    const c::Problem &q = *quarter.continuation[k].problem, &s = *same.continuation[k].problem;
+    EXPECT_TRUE(s.input_lower.cwiseEqual(q.input_lower).all()) << "step " << k;
+    EXPECT_TRUE(s.input_upper.cwiseEqual(q.input_upper).all()) << "step " << k;
+    EXPECT_EQ(s.parameters.at("g"), q.parameters.at("g")) << "step " << k;
     expectTripled(*strong.continuation[k].problem, "step " + std::to_string(k) + ": ");
-    EXPECT_EQ(strong.continuation[k].problem->parameters.at("g"), quarter.continuation[k].problem->parameters.at("g"));
+    EXPECT_EQ(strong.continuation[k].problem->parameters.at("g"), q.parameters.at("g"));
   }
   const c::Transcription a(*quarter.continuation[0].problem, c::Method::Impulsive),
       b(*same.continuation[0].problem, c::Method::Impulsive);
