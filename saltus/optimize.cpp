@@ -180,11 +180,12 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
     solve.restarts = seeding.restarts;
     SeedFunction seed = seeding.seed;
     const auto steps = continuationSteps(adjusted, options, t);
+    std::vector<std::string> step_notes;  // each step's remarks, for the solve's note
     if (!steps.empty()) {
       // Each attempt's seed through the steps: a feasibility stage on each from the previous
       // end, the first with the hints (when the seed takes them), then the problem's own solve
       // from the last end, warm and with the seed's hints, as from an earlier solution.
-      seed = [&o, &steps, &adjusted, base = seeding.seed, options = solve](int k) {
+      seed = [&o, &steps, &adjusted, &step_notes, base = seeding.seed, options = solve](int k) {
         collocation::Seed s = base(k);
         const bool hinted = s.hinted;
         for (std::size_t i = 0; i < steps.size(); ++i) {
@@ -204,6 +205,8 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
           for (std::size_t j = 0; j < r.stages.size(); ++j)  // the stage whose end seeds the next is kept
             o.continuation.push_back({k, static_cast<int>(i), adjusted.continuation[i].parameters, r.stages[j],
                                       static_cast<int>(j) == r.kept_stage});
+          if (!r.note.empty())
+            step_notes.push_back("continuation[" + std::to_string(i) + "] of attempt " + std::to_string(k) + ": " + r.note);
           s = collocation::Seed{r.x, true, false, true};
         }
         s.hinted = hinted;
@@ -223,6 +226,10 @@ OptimizeResult optimize(const Problem& problem, const OptimizeOptions& options) 
       };
     }
     o.report = collocation::solve(t, seed, solve);
+    // The steps' remarks come first in the note, as their stages ran first.
+    std::string notes;
+    for (const std::string& n : step_notes) notes += (notes.empty() ? "" : "; ") + n;
+    if (!notes.empty()) o.report.note = notes + (o.report.note.empty() ? "" : "; " + o.report.note);
     for (const ContinuationStepReport& c : o.continuation) {
       o.report.iterations += c.stage.iterations;
       o.report.wall_seconds += c.stage.wall_seconds;

@@ -323,7 +323,8 @@ TEST(ApiOptimizeContinuation, TheProblemsOwnSolveKeepsTheSeedsHints) {
 // end seeds the solve. The near-miss drop (its stage from the perturbed simulation seed 5 ends so)
 // with one step that is the problem itself: the step's two stages are, iteration for iteration,
 // the feasibility stage and its repeat of the problem solved by hand; each is reported, the
-// repeat kept; without the repeat the step is the one stage, kept.
+// repeat kept; without the repeat the step is the one stage, kept. A step's repeat that is not
+// kept is named in the solve's note.
 TEST(ApiOptimizeContinuation, AStepSolvedAboveTheToleranceIsRepeated) {
   using saltus::collocation::Problem;
   namespace c = saltus::collocation;
@@ -380,6 +381,29 @@ TEST(ApiOptimizeContinuation, AStepSolvedAboveTheToleranceIsRepeated) {
   ASSERT_EQ(unrepeated.continuation.size(), 1u);
   EXPECT_TRUE(unrepeated.continuation[0].kept);
   EXPECT_EQ(unrepeated.continuation[0].stage.iterations, first.iterations);
+  EXPECT_EQ(r.report.note.find("continuation["), std::string::npos) << r.report.note;
+
+  // A step's repeat that ends no lower is not kept, and the step says so in the solve's note,
+  // ahead of the problem's own remarks. Under μ₀ = 1e-2 and a push of 0.5 the first step ends at a
+  // local minimum that its repeat lowers (kept); a second step, the problem once more, starts
+  // there in that warm start and its repeat ends no lower.
+  Problem twice = problem;
+  twice.continuation = {itself, itself};
+  saltus::OptimizeOptions pushed = options;
+  pushed.solve.ipopt = {{"mu_init", "1e-2"}, {"bound_push", "0.5"}, {"bound_frac", "0.5"}};
+  const saltus::OptimizeResult f = saltus::optimize(twice, pushed);
+  ASSERT_EQ(f.continuation.size(), 4u);
+  EXPECT_EQ(f.continuation[2].step, 1);
+  EXPECT_EQ(f.continuation[3].step, 1);
+  EXPECT_GT(f.continuation[2].stage.largest_product, problem.complementarity_tolerance);
+  EXPECT_GE(f.continuation[3].stage.largest_product, f.continuation[2].stage.largest_product);
+  EXPECT_TRUE(f.continuation[2].kept);
+  EXPECT_FALSE(f.continuation[3].kept);
+  EXPECT_EQ(f.report.note.rfind("continuation[1] of attempt 0: the feasibility stage's repeat ended ", 0), 0u)
+      << f.report.note;
+  EXPECT_NE(f.report.note.find("no lower; kept the point before it"), std::string::npos) << f.report.note;
+  EXPECT_EQ(f.report.note.find("continuation[0]"), std::string::npos) << f.report.note;  // its repeat kept
+  EXPECT_EQ(nlohmann::json::parse(saltus::summaryJson(f)).at("note").get<std::string>(), f.report.note);
 }
 
 // A problem file's solve.<method> keys (Problem::method_solve) take the place of the problem's
