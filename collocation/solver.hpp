@@ -126,19 +126,20 @@ struct SolveOptions {
   int task_max_iter = -1;
   int restarts = 0;  // further attempts after an infeasible end (solve with a SeedFunction)
   // A feasibility stage that Ipopt solved (Solve_Succeeded, not Solved_To_Acceptable_Level) at a
-  // local minimum of the penalty above the tolerance is run again from its end, up to this many times, before any tightening: the
-  // same stage from that end made consistent (Transcription::makeConsistent: the gaps, free
-  // points, slips and ε from the kinematics, as a seed from a saved solution is) as a warm seed (the monotone barrier from μ₀ = 1e-4, where the stage before ended
-  // at Ipopt's smallest, unless the caller's Ipopt options set them), with the caller's bound_push
-  // and bound_frac, which move the point off the bounds it sat on. A repeat is kept when it is
-  // feasible, or when Ipopt solved it (Solve_Succeeded or Solved_To_Acceptable_Level) to lower
-  // products; the repeats go on while Ipopt ends them Solve_Succeeded above the tolerance. One
-  // that is not kept ends them, its start the point (the note says so). A restart (above) would
-  // start from a new perturbation and lose the stage's work. On the full-body Ollie
-  // (quarter-gravity continuation, assist 3, seed 1; bound_push 0.01) the feasibility stage
-  // solved at products of 1.25 and the tightening from there lost the constraints; the same stage
-  // from its saved end (a second solve) ended at 0.069 and the tightening from there was
-  // feasible (README).
+  // local minimum of the penalty above the tolerance is run again from its end, up to this many
+  // times, before any tightening: the same stage from that end made consistent
+  // (Transcription::makeConsistent: the gaps, free points, slips and ε from the kinematics, as a
+  // seed from a saved solution is) as a warm seed (the monotone barrier from μ₀ = 1e-4, where the
+  // stage before ended at Ipopt's smallest, unless the caller's Ipopt options set them), with the
+  // caller's bound_push and bound_frac, which move the point off the bounds it sat on. A repeat is
+  // kept when it is feasible, or when Ipopt solved it (Solve_Succeeded or
+  // Solved_To_Acceptable_Level) to lower products; the repeats go on while Ipopt ends them
+  // Solve_Succeeded above the tolerance. One that is not kept ends them, its start the point (the
+  // note says so). A restart (above) would start from a new perturbation and lose the stage's
+  // work. On the full-body Ollie (quarter-gravity continuation, assist 3, seed 1; bound_push 0.01)
+  // the feasibility stage solved at products of 1.25 and the tightening from there lost the
+  // constraints; the same stage from its saved end (a second solve) ended at 0.069 and the
+  // tightening from there was feasible (README).
   int feasibility_repeats = 0;
   // The feasibility (or penalty) stage alone, with its repeats: no tightening and no task stage (a step of a
   // continuation in the problem's parameters, whose end only seeds the next step).
